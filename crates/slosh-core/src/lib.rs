@@ -1,0 +1,28 @@
+//! The SPH solver of slosh, written once and generic over the dimension `D` (2 or 3).
+//!
+//! The scheme is the paper's (Ono, Iwamoto & Scawthorn 2007, §2): weakly compressible SPH
+//! with the cubic B-spline kernel, Tait EOS, summation density with a free-surface reset,
+//! the symmetric momentum equation with Newtonian viscous stress and Monaghan artificial
+//! viscosity, three layers of fixed wall particles and leap-frog time integration. No file,
+//! printing or scripting here: the crate takes particles and parameters and returns numbers.
+pub mod error;
+pub mod gauge;
+pub mod kernel;
+pub mod loads;
+pub mod neighbours;
+pub mod params;
+pub mod setup;
+pub mod sim;
+
+pub use error::SimError;
+pub use kernel::{Kernel, KernelKind};
+pub use loads::{LoadEvaluator, LoadPeaks, PartLoads};
+pub use neighbours::{CellGrid, KdTreeSearch, NeighbourBackend, NeighbourSearch};
+pub use params::{SphParams, WallPressureMethod};
+pub use setup::{ParticleSetup, TankInterior, PART_BOTTOM, PART_ROOF, PART_WALL};
+pub use sim::{Fluid, Simulation, StepStats, Tensor, Vector, Walls};
+
+#[cfg(test)]
+mod test_tank;
+#[cfg(test)]
+mod tests_physics;

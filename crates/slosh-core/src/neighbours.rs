@@ -1,0 +1,280 @@
+//! Neighbour search behind one trait, with two implementations: a uniform cell grid
+//! (counting sort, the default) and a kiddo k-d tree. Both index the moving fluid particles
+//! (rebuilt every step) and the fixed wall particles (built once).
+
+use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use nalgebra::SVector;
+use serde::{Deserialize, Serialize};
+
+/// Which neighbour-search implementation the solver uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum NeighbourBackend {
+    /// Uniform grid of cells of the kernel support size, filled by a counting sort.
+    CellGrid,
+    /// kiddo k-d trees (fluid rebuilt each step, walls built once).
+    KdTree,
+}
+
+/// Finds the particles that may lie within the kernel support of a point.
+///
+/// `for_each_*_candidate` may visit particles farther than the radius given at construction
+/// (the grid visits whole cells); callers test the distance themselves. Each candidate is
+/// visited exactly once.
+pub trait NeighbourSearch<const D: usize>: Send + Sync {
+    /// Re-index the fluid particles after they moved.
+    fn rebuild_fluid(&mut self, fluid: &[SVector<f64, D>]);
+    /// Visit the fluid particles near `x` (indices into the fluid arrays).
+    fn for_each_fluid_candidate<F: FnMut(usize)>(&self, x: &SVector<f64, D>, visit: F);
+    /// Visit the wall particles near `x` (indices into the wall arrays).
+    fn for_each_wall_candidate<F: FnMut(usize)>(&self, x: &SVector<f64, D>, visit: F);
+}
+
+/// Uniform cell grid over a fixed box; particles outside the box are put in the border cells
+/// (the solver stops a run whose particles leave the box).
+#[derive(Clone, Debug)]
+pub struct CellGrid<const D: usize> {
+    origin: SVector<f64, D>,
+    inv_cell: f64,
+    dims: [usize; D],
+    /// cell_start[c]..cell_start[c+1] is the range of `fluid_entries` in cell c.
+    fluid_cell_start: Vec<u32>,
+    fluid_entries: Vec<u32>,
+    wall_cell_start: Vec<u32>,
+    wall_entries: Vec<u32>,
+    /// Scratch: cell of each fluid particle.
+    fluid_cell: Vec<u32>,
+}
+
+impl<const D: usize> CellGrid<D> {
+    /// Grid with cells of size `cell_size` (m, at least the kernel support) covering
+    /// [lower, upper], with the fixed wall particles indexed once.
+    pub fn new(
+        lower: SVector<f64, D>,
+        upper: SVector<f64, D>,
+        cell_size: f64,
+        walls: &[SVector<f64, D>],
+    ) -> Self {
+        let mut dims = [1usize; D];
+        for (k, dim) in dims.iter_mut().enumerate() {
+            *dim = (((upper[k] - lower[k]) / cell_size).ceil() as usize).max(1) + 1;
+        }
+        let n_cells: usize = dims.iter().product();
+        let mut grid = CellGrid {
+            origin: lower,
+            inv_cell: 1.0 / cell_size,
+            dims,
+            fluid_cell_start: vec![0; n_cells + 1],
+            fluid_entries: Vec::new(),
+            wall_cell_start: vec![0; n_cells + 1],
+            wall_entries: Vec::new(),
+            fluid_cell: Vec::new(),
+        };
+        let mut wall_cell = vec![0u32; walls.len()];
+        let mut wall_start = vec![0u32; n_cells + 1];
+        let mut wall_entries = vec![0u32; walls.len()];
+        grid.counting_sort(walls, &mut wall_cell, &mut wall_start, &mut wall_entries);
+        grid.wall_cell_start = wall_start;
+        grid.wall_entries = wall_entries;
+        grid
+    }
+
+    /// Visits the fluid particle indices in cell order (after `rebuild_fluid`).
+    pub fn for_each_sorted<F: FnMut(usize)>(&self, mut visit: F) {
+        for &i in &self.fluid_entries {
+            visit(i as usize);
+        }
+    }
+
+    /// Number of cells along each axis.
+    pub fn dims(&self) -> [usize; D] {
+        self.dims
+    }
+
+    /// Integer cell coordinates of a point, clamped to the grid.
+    #[inline(always)]
+    fn cell_coords(&self, x: &SVector<f64, D>) -> [usize; D] {
+        let mut c = [0usize; D];
+        for k in 0..D {
+            let f = ((x[k] - self.origin[k]) * self.inv_cell).floor();
+            c[k] = if f <= 0.0 || f.is_nan() {
+                0
+            } else {
+                (f as usize).min(self.dims[k] - 1)
+            };
+        }
+        c
+    }
+
+    /// Linear cell index (x fastest) of a point.
+    #[inline(always)]
+    pub fn cell_index(&self, x: &SVector<f64, D>) -> usize {
+        let c = self.cell_coords(x);
+        let mut idx = 0;
+        for k in (0..D).rev() {
+            idx = idx * self.dims[k] + c[k];
+        }
+        idx
+    }
+
+    /// Counting sort of `points` by cell: afterwards `entries[start[c]..start[c + 1]]` lists
+    /// the points of cell c in increasing index order.
+    fn counting_sort(
+        &self,
+        points: &[SVector<f64, D>],
+        cell_of: &mut [u32],
+        start: &mut [u32],
+        entries: &mut [u32],
+    ) {
+        start.iter_mut().for_each(|s| *s = 0);
+        for (i, p) in points.iter().enumerate() {
+            let c = self.cell_index(p);
+            cell_of[i] = c as u32;
+            start[c + 1] += 1;
+        }
+        for c in 0..start.len() - 1 {
+            start[c + 1] += start[c];
+        }
+        // Place each point at its cell's cursor; afterwards start[c] is the end of cell c.
+        for (i, &c) in cell_of.iter().enumerate() {
+            let c = c as usize;
+            entries[start[c] as usize] = i as u32;
+            start[c] += 1;
+        }
+        for c in (1..start.len()).rev() {
+            start[c] = start[c - 1];
+        }
+        start[0] = 0;
+    }
+
+    /// Calls `visit(begin, end)` for each contiguous run of cells around `x` (one run per
+    /// row of 3 cells along the first axis).
+    #[inline(always)]
+    fn for_each_row<F: FnMut(usize, usize)>(&self, x: &SVector<f64, D>, mut visit: F) {
+        let c = self.cell_coords(x);
+        let x_lo = c[0].saturating_sub(1);
+        let x_hi = (c[0] + 1).min(self.dims[0] - 1);
+        // Iterate over the 3^(D-1) rows in the other axes.
+        let mut offsets = [0i64; D];
+        for o in offsets.iter_mut().skip(1) {
+            *o = -1;
+        }
+        loop {
+            let mut ok = true;
+            let mut base = 0usize;
+            for k in (1..D).rev() {
+                let ck = c[k] as i64 + offsets[k];
+                if ck < 0 || ck >= self.dims[k] as i64 {
+                    ok = false;
+                    break;
+                }
+                base = base * self.dims[k] + ck as usize;
+            }
+            if ok {
+                let row = base * self.dims[0];
+                visit(row + x_lo, row + x_hi + 1);
+            }
+            // Advance the odometer over axes 1..D.
+            let mut k = 1;
+            loop {
+                if k >= D {
+                    return;
+                }
+                offsets[k] += 1;
+                if offsets[k] <= 1 {
+                    break;
+                }
+                offsets[k] = -1;
+                k += 1;
+            }
+        }
+    }
+}
+
+impl<const D: usize> NeighbourSearch<D> for CellGrid<D> {
+    fn rebuild_fluid(&mut self, fluid: &[SVector<f64, D>]) {
+        self.fluid_cell.resize(fluid.len(), 0);
+        self.fluid_entries.resize(fluid.len(), 0);
+        let mut cell = std::mem::take(&mut self.fluid_cell);
+        let mut start = std::mem::take(&mut self.fluid_cell_start);
+        let mut entries = std::mem::take(&mut self.fluid_entries);
+        self.counting_sort(fluid, &mut cell, &mut start, &mut entries);
+        self.fluid_cell = cell;
+        self.fluid_cell_start = start;
+        self.fluid_entries = entries;
+    }
+
+    #[inline(always)]
+    fn for_each_fluid_candidate<F: FnMut(usize)>(&self, x: &SVector<f64, D>, mut visit: F) {
+        self.for_each_row(x, |c0, c1| {
+            let (b, e) = (
+                self.fluid_cell_start[c0] as usize,
+                self.fluid_cell_start[c1] as usize,
+            );
+            for &j in &self.fluid_entries[b..e] {
+                visit(j as usize);
+            }
+        });
+    }
+
+    #[inline(always)]
+    fn for_each_wall_candidate<F: FnMut(usize)>(&self, x: &SVector<f64, D>, mut visit: F) {
+        self.for_each_row(x, |c0, c1| {
+            let (b, e) = (
+                self.wall_cell_start[c0] as usize,
+                self.wall_cell_start[c1] as usize,
+            );
+            for &j in &self.wall_entries[b..e] {
+                visit(j as usize);
+            }
+        });
+    }
+}
+
+/// kiddo k-d trees: the fluid tree is rebuilt every step, the wall tree once.
+pub struct KdTreeSearch<const D: usize> {
+    radius_sq: f64,
+    fluid_tree: Option<ImmutableKdTree<f64, D>>,
+    wall_tree: Option<ImmutableKdTree<f64, D>>,
+    scratch: Vec<[f64; D]>,
+}
+
+impl<const D: usize> KdTreeSearch<D> {
+    /// Trees answering queries within `radius` (m), with the wall particles indexed once.
+    pub fn new(radius: f64, walls: &[SVector<f64, D>]) -> Self {
+        let pts: Vec<[f64; D]> = walls.iter().map(|p| (*p).into()).collect();
+        KdTreeSearch {
+            radius_sq: radius * radius,
+            fluid_tree: None,
+            wall_tree: ImmutableKdTree::new_from_slice(&pts).ok(),
+            scratch: Vec::new(),
+        }
+    }
+}
+
+impl<const D: usize> NeighbourSearch<D> for KdTreeSearch<D> {
+    fn rebuild_fluid(&mut self, fluid: &[SVector<f64, D>]) {
+        self.scratch.clear();
+        self.scratch.extend(fluid.iter().map(|p| <[f64; D]>::from(*p)));
+        self.fluid_tree = ImmutableKdTree::new_from_slice(&self.scratch).ok();
+    }
+
+    fn for_each_fluid_candidate<F: FnMut(usize)>(&self, x: &SVector<f64, D>, mut visit: F) {
+        if let Some(tree) = &self.fluid_tree {
+            let q: [f64; D] = (*x).into();
+            tree.query(&q)
+                .within::<SquaredEuclidean<f64>>(self.radius_sq)
+                .unsorted()
+                .visit(|r| visit(r.item as usize));
+        }
+    }
+
+    fn for_each_wall_candidate<F: FnMut(usize)>(&self, x: &SVector<f64, D>, mut visit: F) {
+        if let Some(tree) = &self.wall_tree {
+            let q: [f64; D] = (*x).into();
+            tree.query(&q)
+                .within::<SquaredEuclidean<f64>>(self.radius_sq)
+                .unsorted()
+                .visit(|r| visit(r.item as usize));
+        }
+    }
+}

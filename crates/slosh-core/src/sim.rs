@@ -1,0 +1,904 @@
+//! The simulation state and the time step, written once for 2D and 3D.
+//!
+//! One step (paper §2):
+//! 1. re-index (and every few steps re-sort) the fluid particles;
+//! 2. density pass: summation density (Eq. 19) of fluid and wall particles, the kernel sum of
+//!    the free-surface test (Eq. 20) and the strain rate V of Eq. 5; then the EOS (Eq. 18);
+//! 3. force pass: the symmetric momentum equation with artificial viscosity (Eq. 8–16);
+//! 4. time step from the CFL bounds (or the fixed dt), leap-frog update (Eq. 21–22);
+//! 5. wall pressures for loads (§2.6) and their time window.
+
+use crate::error::SimError;
+use crate::kernel::Kernel;
+use crate::loads::LoadEvaluator;
+use crate::neighbours::{CellGrid, KdTreeSearch, NeighbourBackend, NeighbourSearch};
+use crate::params::SphParams;
+use crate::setup::{ParticleSetup, TankInterior};
+use nalgebra::{SMatrix, SVector};
+use rayon::prelude::*;
+
+/// A position, velocity or force vector in D dimensions.
+pub type Vector<const D: usize> = SVector<f64, D>;
+/// A D×D tensor (strain rate).
+pub type Tensor<const D: usize> = SMatrix<f64, D, D>;
+
+/// Chunk length for rayon loops: large enough to amortise scheduling.
+const PAR_CHUNK: usize = 256;
+
+/// Fluid particles, struct of arrays. Index i is the same particle in every array; the order
+/// changes when particles are re-sorted by cell (`id` keeps the original index).
+#[derive(Clone, Debug, Default)]
+pub struct Fluid<const D: usize> {
+    /// Position (m).
+    pub position: Vec<Vector<D>>,
+    /// Velocity at the current integer time (m/s), leap-frog estimate.
+    pub velocity: Vec<Vector<D>>,
+    /// Velocity at the last half step (m/s), the leap-frog state.
+    pub velocity_half: Vec<Vector<D>>,
+    /// Acceleration of the last force pass (m/s²).
+    pub acceleration: Vec<Vector<D>>,
+    /// Density (kg/m³).
+    pub density: Vec<f64>,
+    /// Pressure (Pa).
+    pub pressure: Vec<f64>,
+    /// Kernel sum Σ (m/ρ) W of Eq. 20 (dimensionless, ≈ 1 inside the liquid).
+    pub kernel_sum: Vec<f64>,
+    /// Strain-rate tensor V of Eq. 4–5 (1/s).
+    pub strain_rate: Vec<Tensor<D>>,
+    /// Original particle index (stable through re-sorting).
+    pub id: Vec<u32>,
+}
+
+/// Fixed wall particles, struct of arrays.
+#[derive(Clone, Debug, Default)]
+pub struct Walls<const D: usize> {
+    /// Position (m).
+    pub position: Vec<Vector<D>>,
+    /// Density from summation (kg/m³).
+    pub density: Vec<f64>,
+    /// Pressure from the EOS (Pa), what the fluid feels.
+    pub pressure: Vec<f64>,
+    /// Index of the nearest fluid particle within the kernel support (u32::MAX: none).
+    pub nearest_fluid: Vec<u32>,
+    /// Part index (into `part_names`).
+    pub part: Vec<u16>,
+    /// Outward unit normal of the boundary (from the liquid into the wall).
+    pub normal: Vec<Vector<D>>,
+    /// Boundary area represented in load integration (m², 2D: m per m depth).
+    pub area: Vec<f64>,
+    /// Layer, 1 = next to the liquid.
+    pub layer: Vec<u8>,
+}
+
+/// Neighbour search chosen at run time; each pass is monomorphised for both.
+enum Search<const D: usize> {
+    Grid(CellGrid<D>),
+    KdTree(KdTreeSearch<D>),
+}
+
+/// Per-step constants of the passes.
+#[derive(Clone, Copy)]
+struct PassConstants {
+    kernel: Kernel,
+    support_sq: f64,
+    mass: f64,
+    rest_density: f64,
+    eos_stiffness: f64,
+    eos_gamma: f64,
+    eos_gamma_int: Option<i32>,
+    clamp_negative: bool,
+    free_surface_threshold: f64,
+    viscosity: f64,
+    av_alpha: f64,
+    av_beta: f64,
+    av_sound_speed: f64,
+}
+
+impl PassConstants {
+    /// Eq. 18: Tait equation of state, with the optional clamp of negative pressure.
+    #[inline(always)]
+    fn pressure(&self, density: f64) -> f64 {
+        let ratio = density / self.rest_density;
+        let power = match self.eos_gamma_int {
+            Some(g) => ratio.powi(g),
+            None => ratio.powf(self.eos_gamma),
+        };
+        let p = self.eos_stiffness * (power - 1.0);
+        if self.clamp_negative {
+            p.max(0.0)
+        } else {
+            p
+        }
+    }
+}
+
+/// Time-step statistics of a run.
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+pub struct StepStats {
+    /// Smallest time step taken (s).
+    pub dt_min: f64,
+    /// Largest time step taken (s).
+    pub dt_max: f64,
+    /// Smallest stability bound seen (s).
+    pub dt_bound_min: f64,
+    /// Steps whose fixed dt exceeded the bound of that step.
+    pub steps_above_bound: u64,
+}
+
+/// An SPH simulation of liquid in a fixed tank under gravity and a ground acceleration.
+pub struct Simulation<const D: usize> {
+    params: SphParams,
+    constants: PassConstants,
+    spacing: f64,
+    /// EOS sound speed c0 (m/s).
+    sound_speed: f64,
+    fluid: Fluid<D>,
+    walls: Walls<D>,
+    part_names: Vec<String>,
+    search: Search<D>,
+    sort_grid: CellGrid<D>,
+    interior: Box<dyn TankInterior<D>>,
+    interior_min: Vector<D>,
+    interior_max: Vector<D>,
+    fill_level: f64,
+    domain_min: Vector<D>,
+    domain_max: Vector<D>,
+    time: f64,
+    step: u64,
+    dt_previous: f64,
+    dt_last: f64,
+    stats: StepStats,
+    loads: LoadEvaluator<D>,
+    // Scratch buffers, allocated once.
+    scratch_vec: Vec<Vector<D>>,
+    scratch_f64: Vec<f64>,
+    scratch_tensor: Vec<Tensor<D>>,
+    scratch_u32: Vec<u32>,
+    order: Vec<u32>,
+    next_density: Vec<f64>,
+    next_wall_density: Vec<f64>,
+}
+
+impl<const D: usize> Simulation<D> {
+    /// Builds a simulation from a tank's particles and the solver parameters.
+    pub fn new(setup: ParticleSetup<D>, params: SphParams) -> Result<Self, SimError> {
+        assert!(D == 2 || D == 3, "slosh simulates 2D and 3D tanks only");
+        let dx = setup.spacing;
+        if !(dx.is_finite() && dx > 0.0) {
+            return Err(SimError::InvalidSetup(format!(
+                "particle spacing dx must be a positive number (got {dx})"
+            )));
+        }
+        if setup.fluid_positions.is_empty() {
+            return Err(SimError::InvalidSetup(
+                "the tank holds no fluid particle: the fill depth is below one particle spacing"
+                    .into(),
+            ));
+        }
+        let n_wall = setup.wall_positions.len();
+        for (name, len) in [
+            ("wall_part", setup.wall_part.len()),
+            ("wall_normal", setup.wall_normal.len()),
+            ("wall_area", setup.wall_area.len()),
+            ("wall_layer", setup.wall_layer.len()),
+        ] {
+            if len != n_wall {
+                return Err(SimError::InvalidSetup(format!(
+                    "{name} has {len} entries for {n_wall} wall particles"
+                )));
+            }
+        }
+        check_positive("smoothing_ratio", params.smoothing_ratio)?;
+        check_positive("rest_density", params.rest_density)?;
+        check_positive("eos_stiffness", params.eos_stiffness)?;
+        check_positive("eos_gamma", params.eos_gamma)?;
+        check_positive("cfl_number", params.cfl_number)?;
+        if params.dynamic_viscosity < 0.0 || params.av_alpha < 0.0 || params.av_beta < 0.0 {
+            return Err(SimError::InvalidSetup(
+                "viscosity coefficients (dynamic_viscosity, av_alpha, av_beta) must be ≥ 0".into(),
+            ));
+        }
+        let h = params.smoothing_ratio * dx;
+        let kernel = Kernel::new(params.kernel, h, D);
+        let sound_speed = params.eos_sound_speed();
+        let depth = setup.fill_level - setup.interior_min[D - 1];
+        let av_sound_speed = params
+            .av_sound_speed
+            .unwrap_or_else(|| params.av_eta * (200.0 * params.gravity * depth.max(0.0)).sqrt());
+        if let Some(dt) = params.fixed_dt {
+            check_positive("dt", dt)?;
+            let bound = params.cfl_number * h / sound_speed;
+            if dt > bound && !params.allow_unstable_dt {
+                return Err(SimError::DtAboveBound {
+                    dt,
+                    bound,
+                    cfl: params.cfl_number,
+                    h,
+                    c0: sound_speed,
+                });
+            }
+        }
+        let gamma_int = if params.eos_gamma.fract() == 0.0 && params.eos_gamma.abs() < 64.0 {
+            Some(params.eos_gamma as i32)
+        } else {
+            None
+        };
+        let mass = params.rest_density * dx.powi(D as i32);
+        let constants = PassConstants {
+            kernel,
+            support_sq: kernel.support() * kernel.support(),
+            mass,
+            rest_density: params.rest_density,
+            eos_stiffness: params.eos_stiffness,
+            eos_gamma: params.eos_gamma,
+            eos_gamma_int: gamma_int,
+            clamp_negative: params.clamp_negative_pressure,
+            free_surface_threshold: params.free_surface_threshold,
+            viscosity: params.dynamic_viscosity,
+            av_alpha: params.av_alpha,
+            av_beta: params.av_beta,
+            av_sound_speed,
+        };
+
+        // Domain: the bounding box of all particles, with room above for waves in open tanks.
+        let mut lo = setup.interior_min;
+        let mut hi = setup.interior_max;
+        for p in setup.wall_positions.iter().chain(&setup.fluid_positions) {
+            for k in 0..D {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let margin = 2.0 * kernel.support();
+        let tank_height = setup.interior_max[D - 1] - setup.interior_min[D - 1];
+        let mut domain_min = lo;
+        let mut domain_max = hi;
+        for k in 0..D {
+            domain_min[k] -= margin;
+            domain_max[k] += margin;
+        }
+        domain_max[D - 1] += tank_height.max(depth); // splashes above an open tank
+
+        let n = setup.fluid_positions.len();
+        let fluid = Fluid {
+            position: setup.fluid_positions,
+            velocity: vec![Vector::<D>::zeros(); n],
+            velocity_half: vec![Vector::<D>::zeros(); n],
+            acceleration: vec![Vector::<D>::zeros(); n],
+            density: vec![params.rest_density; n],
+            pressure: vec![0.0; n],
+            kernel_sum: vec![1.0; n],
+            strain_rate: vec![Tensor::<D>::zeros(); n],
+            id: (0..n as u32).collect(),
+        };
+        let walls = Walls {
+            density: vec![params.rest_density; n_wall],
+            pressure: vec![0.0; n_wall],
+            nearest_fluid: vec![u32::MAX; n_wall],
+            position: setup.wall_positions,
+            part: setup.wall_part,
+            normal: setup.wall_normal,
+            area: setup.wall_area,
+            layer: setup.wall_layer,
+        };
+        let search = match params.neighbour_backend {
+            NeighbourBackend::CellGrid => Search::Grid(CellGrid::new(
+                domain_min,
+                domain_max,
+                kernel.support(),
+                &walls.position,
+            )),
+            NeighbourBackend::KdTree => {
+                Search::KdTree(KdTreeSearch::new(kernel.support(), &walls.position))
+            }
+        };
+        let sort_grid = CellGrid::new(domain_min, domain_max, kernel.support(), &[]);
+        let mut loads = LoadEvaluator::new(&walls, setup.part_names.len(), params.smoothing_steps);
+        loads.set_roof_part(&setup.part_names);
+        let mut sim = Simulation {
+            constants,
+            spacing: dx,
+            sound_speed,
+            fluid,
+            walls,
+            part_names: setup.part_names,
+            search,
+            sort_grid,
+            interior: setup.interior,
+            interior_min: setup.interior_min,
+            interior_max: setup.interior_max,
+            fill_level: setup.fill_level,
+            domain_min,
+            domain_max,
+            time: 0.0,
+            step: 0,
+            dt_previous: 0.0,
+            dt_last: 0.0,
+            stats: StepStats {
+                dt_min: f64::INFINITY,
+                dt_max: 0.0,
+                dt_bound_min: f64::INFINITY,
+                steps_above_bound: 0,
+            },
+            loads,
+            scratch_vec: vec![Vector::<D>::zeros(); n],
+            scratch_f64: vec![0.0; n],
+            scratch_tensor: vec![Tensor::<D>::zeros(); n],
+            scratch_u32: vec![0; n],
+            order: vec![0; n],
+            next_density: vec![0.0; n],
+            next_wall_density: vec![0.0; n_wall],
+            params,
+        };
+        sim.sort_by_cell();
+        sim.rebuild_search();
+        sim.compute_density_and_pressure();
+        Ok(sim)
+    }
+
+    /// Advances one time step with the ground acceleration `ground_accel` (m/s², tank frame:
+    /// the fluid feels −ground_accel as a body force besides gravity).
+    pub fn step(&mut self, ground_accel: Vector<D>) -> Result<(), SimError> {
+        if !ground_accel.iter().all(|a| a.is_finite()) {
+            return Err(SimError::BadExcitation {
+                time: self.time,
+                value: format!("{:?}", ground_accel.as_slice()),
+            });
+        }
+        let reorder = self.params.reorder_interval;
+        if reorder > 0 && self.step > 0 && self.step % reorder as u64 == 0 {
+            self.sort_by_cell();
+        }
+        if self.step > 0 {
+            self.rebuild_search();
+            self.compute_density_and_pressure();
+        }
+        let mut body_force = -ground_accel;
+        body_force[D - 1] -= self.params.gravity;
+        self.compute_forces(body_force);
+        self.record_loads(body_force);
+
+        // Time step: acoustic and force CFL bounds (SPEC §4 item 2).
+        let (max_speed, max_accel) = self.max_speed_and_acceleration();
+        let h = self.constants.kernel.h;
+        let c = self.params.cfl_number;
+        let acoustic = c * h / (self.sound_speed + max_speed);
+        let force = if max_accel > 0.0 {
+            c * (h / max_accel).sqrt()
+        } else {
+            f64::INFINITY
+        };
+        let bound = acoustic.min(force);
+        self.stats.dt_bound_min = self.stats.dt_bound_min.min(bound);
+        let dt = match self.params.fixed_dt {
+            Some(dt) => {
+                if dt > bound {
+                    self.stats.steps_above_bound += 1;
+                }
+                dt
+            }
+            None => bound,
+        };
+        self.stats.dt_min = self.stats.dt_min.min(dt);
+        self.stats.dt_max = self.stats.dt_max.max(dt);
+
+        self.integrate(dt, self.dt_previous)?;
+        self.dt_previous = dt;
+        self.dt_last = dt;
+        self.time += dt;
+        self.step += 1;
+
+        Ok(())
+    }
+
+    /// Wall pressures for loads (§2.6) of the state the forces were computed on.
+    fn record_loads(&mut self, body_force: Vector<D>) {
+        let (kernel, mass, dx) = (self.constants.kernel, self.constants.mass, self.spacing);
+        let (step, time) = (self.step, self.time);
+        match &self.search {
+            Search::Grid(s) => self.loads.record_step(
+                s, &self.fluid, &self.walls, &kernel, mass, &self.params, body_force, step, time, dx,
+            ),
+            Search::KdTree(s) => self.loads.record_step(
+                s, &self.fluid, &self.walls, &kernel, mass, &self.params, body_force, step, time, dx,
+            ),
+        }
+    }
+
+    /// Mutable access to the load evaluator (to flush the time window at the end of a run).
+    pub fn loads_mut(&mut self) -> &mut LoadEvaluator<D> {
+        &mut self.loads
+    }
+
+    fn rebuild_search(&mut self) {
+        match &mut self.search {
+            Search::Grid(s) => s.rebuild_fluid(&self.fluid.position),
+            Search::KdTree(s) => s.rebuild_fluid(&self.fluid.position),
+        }
+    }
+
+    /// Re-sorts the fluid arrays along the cell order, for memory locality.
+    fn sort_by_cell(&mut self) {
+        self.sort_grid.rebuild_fluid(&self.fluid.position);
+        let mut k = 0;
+        let order = &mut self.order;
+        self.sort_grid.for_each_sorted(|i| {
+            order[k] = i as u32;
+            k += 1;
+        });
+        let order = &self.order;
+        permute(&mut self.fluid.position, order, &mut self.scratch_vec);
+        permute(&mut self.fluid.velocity, order, &mut self.scratch_vec);
+        permute(&mut self.fluid.velocity_half, order, &mut self.scratch_vec);
+        permute(&mut self.fluid.acceleration, order, &mut self.scratch_vec);
+        permute(&mut self.fluid.density, order, &mut self.scratch_f64);
+        permute(&mut self.fluid.pressure, order, &mut self.scratch_f64);
+        permute(&mut self.fluid.kernel_sum, order, &mut self.scratch_f64);
+        permute(&mut self.fluid.strain_rate, order, &mut self.scratch_tensor);
+        permute(&mut self.fluid.id, order, &mut self.scratch_u32);
+        // Wall → nearest-fluid links refer to the old order; they are recomputed in the next
+        // density pass before anything reads them.
+    }
+
+    fn compute_density_and_pressure(&mut self) {
+        let c = self.constants;
+        match &self.search {
+            Search::Grid(s) => density_pass(
+                s,
+                &c,
+                &mut self.fluid,
+                &mut self.walls,
+                &mut self.next_density,
+                &mut self.next_wall_density,
+            ),
+            Search::KdTree(s) => density_pass(
+                s,
+                &c,
+                &mut self.fluid,
+                &mut self.walls,
+                &mut self.next_density,
+                &mut self.next_wall_density,
+            ),
+        }
+    }
+
+    fn compute_forces(&mut self, body_force: Vector<D>) {
+        let c = self.constants;
+        match &self.search {
+            Search::Grid(s) => force_pass(s, &c, &mut self.fluid, &self.walls, body_force),
+            Search::KdTree(s) => force_pass(s, &c, &mut self.fluid, &self.walls, body_force),
+        }
+    }
+
+    fn max_speed_and_acceleration(&self) -> (f64, f64) {
+        let (v2, a2) = self
+            .fluid
+            .velocity
+            .par_iter()
+            .zip(self.fluid.acceleration.par_iter())
+            .with_min_len(PAR_CHUNK)
+            .map(|(v, a)| (v.norm_squared(), a.norm_squared()))
+            .reduce(|| (0.0, 0.0), |x, y| (x.0.max(y.0), x.1.max(y.1)));
+        (v2.sqrt(), a2.sqrt())
+    }
+
+    /// Eq. 21–22: leap-frog, v(t+dt/2) = v(t−dt/2) + dt a(t), x(t+dt) = x(t) + dt v(t+dt/2);
+    /// with a variable step the kick spans (dt_prev + dt)/2. The velocity at the new integer
+    /// time, needed by the viscous terms, is estimated as v(t+dt/2) + dt/2 a(t).
+    fn integrate(&mut self, dt: f64, dt_previous: f64) -> Result<(), SimError> {
+        let kick = 0.5 * (dt + dt_previous);
+        let lo = self.domain_min;
+        let hi = self.domain_max;
+        let (bad, outside, first_out) = self
+            .fluid
+            .position
+            .par_iter_mut()
+            .zip(self.fluid.velocity_half.par_iter_mut())
+            .zip(self.fluid.velocity.par_iter_mut())
+            .zip(self.fluid.acceleration.par_iter())
+            .with_min_len(PAR_CHUNK)
+            .map(|(((x, vh), v), a)| {
+                *vh += kick * a;
+                *x += dt * *vh;
+                *v = *vh + 0.5 * dt * a;
+                let finite = x.iter().chain(vh.iter()).all(|c| c.is_finite());
+                if !finite {
+                    return (1usize, 0usize, None);
+                }
+                let inside = (0..D).all(|k| x[k] >= lo[k] && x[k] <= hi[k]);
+                if inside {
+                    (0, 0, None)
+                } else {
+                    (0, 1, Some(*x))
+                }
+            })
+            .reduce(
+                || (0, 0, None),
+                |a, b| (a.0 + b.0, a.1 + b.1, a.2.or(b.2)),
+            );
+        if bad > 0 {
+            return Err(SimError::NonFinite {
+                time: self.time + dt,
+                step: self.step + 1,
+                count: bad,
+            });
+        }
+        if outside > 0 {
+            let p = first_out.unwrap_or_else(Vector::<D>::zeros);
+            return Err(SimError::LeftDomain {
+                time: self.time + dt,
+                step: self.step + 1,
+                count: outside,
+                position: format!("{:?} m", p.as_slice()),
+            });
+        }
+        Ok(())
+    }
+
+    // ----- accessors -----
+
+    /// Simulated time (s).
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.step
+    }
+    /// Last time step (s).
+    pub fn last_dt(&self) -> f64 {
+        self.dt_last
+    }
+    /// Time-step statistics.
+    pub fn step_stats(&self) -> StepStats {
+        self.stats
+    }
+    /// The parameters in use.
+    pub fn params(&self) -> &SphParams {
+        &self.params
+    }
+    /// Lattice spacing dx (m).
+    pub fn spacing(&self) -> f64 {
+        self.spacing
+    }
+    /// Smoothing length h (m).
+    pub fn smoothing_length(&self) -> f64 {
+        self.constants.kernel.h
+    }
+    /// The kernel in use.
+    pub fn kernel(&self) -> Kernel {
+        self.constants.kernel
+    }
+    /// Mass of one particle (kg; 2D: kg per m of depth).
+    pub fn particle_mass(&self) -> f64 {
+        self.constants.mass
+    }
+    /// EOS sound speed c0 (m/s).
+    pub fn sound_speed(&self) -> f64 {
+        self.sound_speed
+    }
+    /// Sound speed used by the artificial viscosity (m/s).
+    pub fn av_sound_speed(&self) -> f64 {
+        self.constants.av_sound_speed
+    }
+    /// The fluid particles.
+    pub fn fluid(&self) -> &Fluid<D> {
+        &self.fluid
+    }
+    /// The wall particles.
+    pub fn walls(&self) -> &Walls<D> {
+        &self.walls
+    }
+    /// Names of the wall parts.
+    pub fn part_names(&self) -> &[String] {
+        &self.part_names
+    }
+    /// Still-surface level (m).
+    pub fn fill_level(&self) -> f64 {
+        self.fill_level
+    }
+    /// Bounding box of the tank interior (m).
+    pub fn interior_bounds(&self) -> (Vector<D>, Vector<D>) {
+        (self.interior_min, self.interior_max)
+    }
+    /// The wall-load evaluator (pressures on the innermost wall layer, time-windowed).
+    pub fn loads(&self) -> &LoadEvaluator<D> {
+        &self.loads
+    }
+
+    /// Number of fluid particles inside the tank interior.
+    pub fn fluid_inside(&self) -> usize {
+        self.fluid
+            .position
+            .par_iter()
+            .with_min_len(PAR_CHUNK)
+            .filter(|p| self.interior.contains(p))
+            .count()
+    }
+
+    /// Kinetic energy Σ ½ m |v|² (J; 2D: J per m of depth).
+    pub fn kinetic_energy(&self) -> f64 {
+        let m = self.constants.mass;
+        self.fluid
+            .velocity
+            .par_iter()
+            .with_min_len(PAR_CHUNK)
+            .map(|v| 0.5 * m * v.norm_squared())
+            .sum()
+    }
+
+    /// Free-surface level (m) on the vertical line through the horizontal point `horizontal`
+    /// (D−1 coordinates): the height where the fluid kernel sum Σ (m/ρ) W falls to half its
+    /// value at mid-depth on that line. `None` when no liquid is on the line.
+    pub fn surface_level_at(&self, horizontal: &[f64]) -> Option<f64> {
+        crate::gauge::surface_level(self, horizontal)
+    }
+
+    /// Calls `visit(j)` for each fluid particle within the kernel support of `x`.
+    pub fn for_each_fluid_neighbour<F: FnMut(usize)>(&self, x: &Vector<D>, mut visit: F) {
+        let r2max = self.constants.support_sq;
+        let pos = &self.fluid.position;
+        let mut f = |j: usize| {
+            if (pos[j] - x).norm_squared() < r2max {
+                visit(j)
+            }
+        };
+        match &self.search {
+            Search::Grid(s) => s.for_each_fluid_candidate(x, &mut f),
+            Search::KdTree(s) => s.for_each_fluid_candidate(x, &mut f),
+        }
+    }
+
+    /// Simulation state for a restart-free check: the largest |v| (m/s).
+    pub fn max_speed(&self) -> f64 {
+        self.max_speed_and_acceleration().0
+    }
+}
+
+fn check_positive(name: &str, value: f64) -> Result<(), SimError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(SimError::InvalidSetup(format!(
+            "{name} must be a positive number (got {value})"
+        )))
+    }
+}
+
+/// Reorders `values` by `order` (new[k] = old[order[k]]) through a scratch buffer.
+fn permute<T: Copy + Send + Sync>(values: &mut Vec<T>, order: &[u32], scratch: &mut Vec<T>) {
+    // The scratch vector has the right length but possibly another element type's buffer
+    // is kept elsewhere; here each type has its own.
+    scratch.clear();
+    scratch.extend(order.iter().map(|&i| values[i as usize]));
+    std::mem::swap(values, scratch);
+}
+
+/// Density pass (Eq. 19, 20, 18, 5) over fluid and wall particles.
+fn density_pass<const D: usize, S: NeighbourSearch<D>>(
+    search: &S,
+    c: &PassConstants,
+    fluid: &mut Fluid<D>,
+    walls: &mut Walls<D>,
+    next_density: &mut Vec<f64>,
+    next_wall_density: &mut Vec<f64>,
+) {
+    let kernel = c.kernel;
+    let m = c.mass;
+    {
+        let pos = &fluid.position;
+        let vel = &fluid.velocity;
+        let rho = &fluid.density;
+        let wall_pos = &walls.position;
+        let wall_rho = &walls.density;
+        next_density
+            .par_iter_mut()
+            .zip(fluid.kernel_sum.par_iter_mut())
+            .zip(fluid.strain_rate.par_iter_mut())
+            .enumerate()
+            .with_min_len(PAR_CHUNK)
+            .for_each(|(i, ((rho_out, ksum_out), strain_out))| {
+                let xi = pos[i];
+                let vi = vel[i];
+                let mut rho_sum = 0.0;
+                let mut kernel_sum = 0.0;
+                // Velocity gradient G_ab = Σ (m/ρ_j)(v_j − v_i)_a ∂W/∂x_i,b (Eq. 5 terms).
+                let mut grad_v = Tensor::<D>::zeros();
+                search.for_each_fluid_candidate(&xi, |j| {
+                    let xij = xi - pos[j];
+                    let r2 = xij.norm_squared();
+                    if r2 < c.support_sq {
+                        let r = r2.sqrt();
+                        let w = kernel.value(r);
+                        let volume = m / rho[j];
+                        rho_sum += m * w;
+                        kernel_sum += volume * w;
+                        let grad_w = xij * kernel.gradient_factor(r);
+                        grad_v += (vel[j] - vi) * (grad_w * volume).transpose();
+                    }
+                });
+                search.for_each_wall_candidate(&xi, |w_idx| {
+                    let xiw = xi - wall_pos[w_idx];
+                    let r2 = xiw.norm_squared();
+                    if r2 < c.support_sq {
+                        let w = kernel.value(r2.sqrt());
+                        rho_sum += m * w;
+                        kernel_sum += m / wall_rho[w_idx] * w;
+                    }
+                });
+                *rho_out = rho_sum;
+                *ksum_out = kernel_sum;
+                // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
+                let trace = grad_v.trace();
+                let mut v_tensor = grad_v + grad_v.transpose();
+                for k in 0..D {
+                    v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
+                }
+                *strain_out = v_tensor;
+            });
+    }
+    {
+        let pos = &fluid.position;
+        let rho = &fluid.density;
+        let wall_pos = &walls.position;
+        let wall_rho = &walls.density;
+        next_wall_density
+            .par_iter_mut()
+            .zip(walls.nearest_fluid.par_iter_mut())
+            .enumerate()
+            .with_min_len(PAR_CHUNK)
+            .for_each(|(w_i, (rho_out, nearest_out))| {
+                let xw = wall_pos[w_i];
+                let mut rho_sum = 0.0;
+                let mut kernel_sum = 0.0;
+                let mut nearest = (f64::INFINITY, u32::MAX);
+                search.for_each_fluid_candidate(&xw, |j| {
+                    let r2 = (xw - pos[j]).norm_squared();
+                    if r2 < c.support_sq {
+                        let w = kernel.value(r2.sqrt());
+                        rho_sum += m * w;
+                        kernel_sum += m / rho[j] * w;
+                        if r2 < nearest.0 {
+                            nearest = (r2, j as u32);
+                        }
+                    }
+                });
+                search.for_each_wall_candidate(&xw, |k| {
+                    let r2 = (xw - wall_pos[k]).norm_squared();
+                    if r2 < c.support_sq {
+                        let w = kernel.value(r2.sqrt());
+                        rho_sum += m * w;
+                        kernel_sum += m / wall_rho[k] * w;
+                    }
+                });
+                // Eq. 20 applies to wall particles too: a wall particle with too few
+                // neighbours (outer layers, above the liquid) keeps ρ0.
+                *rho_out = if kernel_sum < c.free_surface_threshold {
+                    c.rest_density
+                } else {
+                    rho_sum
+                };
+                *nearest_out = nearest.1;
+            });
+    }
+    // Eq. 20: free-surface reset, then Eq. 18: pressure.
+    fluid
+        .density
+        .par_iter_mut()
+        .zip(next_density.par_iter())
+        .zip(fluid.kernel_sum.par_iter())
+        .zip(fluid.pressure.par_iter_mut())
+        .with_min_len(PAR_CHUNK)
+        .for_each(|(((rho, &rho_new), &ksum), p)| {
+            *rho = if ksum < c.free_surface_threshold {
+                c.rest_density
+            } else {
+                rho_new
+            };
+            *p = c.pressure(*rho);
+        });
+    walls
+        .density
+        .par_iter_mut()
+        .zip(next_wall_density.par_iter())
+        .zip(walls.pressure.par_iter_mut())
+        .with_min_len(PAR_CHUNK)
+        .for_each(|((rho, &rho_new), p)| {
+            *rho = rho_new;
+            *p = c.pressure(rho_new);
+        });
+}
+
+/// Force pass: Eq. 8–9 with the Newtonian stress σ = −p I + μ V (Eq. 3) and Monaghan's
+/// artificial viscosity (Eq. 10–16), plus the body force.
+fn force_pass<const D: usize, S: NeighbourSearch<D>>(
+    search: &S,
+    c: &PassConstants,
+    fluid: &mut Fluid<D>,
+    walls: &Walls<D>,
+    body_force: Vector<D>,
+) {
+    let kernel = c.kernel;
+    let m = c.mass;
+    let h = kernel.h;
+    let eps_h2 = 0.01 * h * h; // φ of Eq. 11
+    let pos = &fluid.position;
+    let vel = &fluid.velocity;
+    let rho = &fluid.density;
+    let p = &fluid.pressure;
+    let strain = &fluid.strain_rate;
+    let viscous = c.viscosity > 0.0;
+    let av_on = c.av_alpha > 0.0 || c.av_beta > 0.0;
+    // Eq. 10: Π_ij = (−α c̄ φ + β φ²)/ρ̄ for approaching pairs, 0 otherwise.
+    let artificial_viscosity = |vij: Vector<D>, xij: Vector<D>, r2: f64, rho_mean: f64| -> f64 {
+        let v_dot_x = vij.dot(&xij);
+        if v_dot_x < 0.0 {
+            let phi = h * v_dot_x / (r2 + eps_h2); // Eq. 11
+            (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) / rho_mean
+        } else {
+            0.0
+        }
+    };
+    fluid
+        .acceleration
+        .par_iter_mut()
+        .enumerate()
+        .with_min_len(PAR_CHUNK)
+        .for_each(|(i, acc_out)| {
+            let xi = pos[i];
+            let vi = vel[i];
+            let rho_i = rho[i];
+            let p_i = p[i];
+            let strain_i = strain[i];
+            let mut acc = Vector::<D>::zeros();
+            search.for_each_fluid_candidate(&xi, |j| {
+                if j == i {
+                    return;
+                }
+                let xij = xi - pos[j];
+                let r2 = xij.norm_squared();
+                if r2 >= c.support_sq {
+                    return;
+                }
+                let r = r2.sqrt();
+                let grad_w = xij * kernel.gradient_factor(r);
+                let rho_j = rho[j];
+                let inv_rho_ij = 1.0 / (rho_i * rho_j);
+                // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
+                let mut scalar = -(p_i + p[j]) * inv_rho_ij;
+                if av_on {
+                    scalar -= artificial_viscosity(vi - vel[j], xij, r2, 0.5 * (rho_i + rho_j));
+                }
+                acc += grad_w * (m * scalar);
+                if viscous {
+                    // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W.
+                    acc += (strain_i + strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
+                }
+            });
+            let wall_pos = &walls.position;
+            let wall_rho = &walls.density;
+            let wall_p = &walls.pressure;
+            search.for_each_wall_candidate(&xi, |w| {
+                let xiw = xi - wall_pos[w];
+                let r2 = xiw.norm_squared();
+                if r2 >= c.support_sq {
+                    return;
+                }
+                let r = r2.sqrt();
+                let grad_w = xiw * kernel.gradient_factor(r);
+                let rho_w = wall_rho[w];
+                let inv_rho_iw = 1.0 / (rho_i * rho_w);
+                // Wall particles: σ_w = −p_w I (free slip: no viscous stress from the wall),
+                // velocity zero in the artificial viscosity.
+                let mut scalar = -(p_i + wall_p[w]) * inv_rho_iw;
+                if av_on {
+                    scalar -= artificial_viscosity(vi, xiw, r2, 0.5 * (rho_i + rho_w));
+                }
+                acc += grad_w * (m * scalar);
+                if viscous {
+                    acc += strain_i * grad_w * (m * c.viscosity * inv_rho_iw);
+                }
+            });
+            *acc_out = acc + body_force;
+        });
+}

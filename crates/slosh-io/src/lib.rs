@@ -1,0 +1,27 @@
+//! Writers for the files a slosh run produces (see DESIGN.md §4 "Files a run writes"):
+//!
+//! - [`series`]: `series.csv` time series (+ `series_units.csv`) and other CSV tables;
+//! - [`summary`]: pretty RON files such as `summary.ron`;
+//! - [`vtk`]: VTK XML PolyData `.vtp` particle frames and the ParaView `.pvd` index;
+//! - [`plot`]: PNG + SVG figures (line plots, SPH-vs-theory scatter, heatmaps) drawn with a
+//!   bundled font, so no system fonts are needed.
+//!
+//! The crate takes plain slices and knows nothing of the solver's types. Every error is an
+//! [`IoError`] naming the file concerned; every writer creates missing parent folders.
+
+#![warn(missing_docs)]
+
+mod base64;
+pub mod error;
+pub mod plot;
+pub mod series;
+pub mod summary;
+pub mod vtk;
+
+pub use error::{IoError, Result};
+pub use plot::{heatmap, line_plot, scatter_with_identity, Field2d, PlotSpec, Series, SeriesStyle};
+pub use series::{
+    format_f64, read_table, units_path_for, write_grid_csv, SeriesWriter, Table, TableWriter,
+};
+pub use summary::{read_ron, write_ron};
+pub use vtk::{write_vtp, ArrayData, FrameSeries, PointArray, PvdIndex};

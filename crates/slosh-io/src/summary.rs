@@ -1,0 +1,32 @@
+//! Pretty RON files (a run's `summary.ron`, and any other structured record).
+
+use std::path::Path;
+
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+
+use crate::error::{write_atomic, IoError, Result};
+
+/// Writes `value` to `path` as pretty-printed RON (creating the folder). The file is written
+/// to a temporary sibling first and then renamed, so it is never seen half-written.
+pub fn write_ron<T: Serialize + ?Sized>(path: impl AsRef<Path>, value: &T) -> Result<()> {
+    let path = path.as_ref();
+    let config = ron::ser::PrettyConfig::new();
+    let mut text =
+        ron::ser::to_string_pretty(value, config).map_err(|source| IoError::RonSerialize {
+            path: path.to_path_buf(),
+            source,
+        })?;
+    text.push('\n');
+    write_atomic(path, text.as_bytes())
+}
+
+/// Reads a RON file written by [`write_ron`] (or by hand) back into a `T`.
+pub fn read_ron<T: DeserializeOwned>(path: impl AsRef<Path>) -> Result<T> {
+    let path = path.as_ref();
+    let text = std::fs::read_to_string(path).map_err(|e| IoError::io(path, e))?;
+    ron::from_str(&text).map_err(|source| IoError::RonParse {
+        path: path.to_path_buf(),
+        source: Box::new(source),
+    })
+}

@@ -1,0 +1,13 @@
+//! Closed-form and semi-analytical references for liquid sloshing in rigid storage tanks:
+//! natural frequencies, linear forced response, Housner/Veletsos pressures, masses and base
+//! shear, Malhotra and Kurihara roof pressures, code formulas (API 650 / ACI 350.3 / EC8-4),
+//! and a one-call tank report. Pure functions, SI units (m, s, kg, Pa, N; 2D forces per metre).
+
+pub mod bessel;
+pub mod codes;
+pub mod cylinder;
+pub mod housner;
+pub mod linear;
+pub mod modal;
+pub mod natural;
+pub mod roof;
