@@ -1,1 +1,195 @@
-fn main() {}
+//! `slosh`: sloshing loads on storage tanks by SPH. See `slosh --help`.
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, Parser, Subcommand};
+use slosh_cli::{run_case, RunOptions};
+use slosh_script::{list_params, load_case, parse_set_value, CaseOptions};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "slosh", version, about = "Sloshing loads on liquid storage tanks (roof, walls, floor) by SPH")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a case script and write series.csv, summary.ron, frames and plots.
+    Run(RunArgs),
+    /// Closed-form numbers for a tank (natural periods, masses, Housner, code wave height).
+    Theory(TheoryArgs),
+}
+
+#[derive(Args)]
+struct RunArgs {
+    /// The case script (.rhai).
+    case: PathBuf,
+    /// Output folder (default: out/<case-name>).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Override a parameter the script declares with param(NAME, default).
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    set: Vec<String>,
+    /// List the script's parameters with their defaults and exit.
+    #[arg(long)]
+    list_params: bool,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// No progress bar and no summary line.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(Args)]
+struct TheoryArgs {
+    /// Tank shape: rect (2D section / rectangular tank) or cylinder.
+    shape: String,
+    /// Inner width 2l of a rectangular tank (m).
+    #[arg(long)]
+    width: Option<f64>,
+    /// Inner radius R of a cylinder (m).
+    #[arg(long)]
+    radius: Option<f64>,
+    /// Still liquid depth H (m).
+    #[arg(long)]
+    depth: f64,
+    /// Tank (roof) height above the floor (m), for the freeboard check.
+    #[arg(long)]
+    tank_height: Option<f64>,
+    /// Peak ground acceleration (m/s²).
+    #[arg(long)]
+    pga: Option<f64>,
+    /// Convective spectral acceleration S_a(T_c) (in g).
+    #[arg(long)]
+    sa: Option<f64>,
+    /// Sine excitation amplitude A (m): ground displacement A sin ωt.
+    #[arg(long)]
+    amplitude: Option<f64>,
+    /// Sine excitation circular frequency ω (rad/s).
+    #[arg(long)]
+    omega: Option<f64>,
+    /// Gravity (m/s²).
+    #[arg(long, default_value_t = 9.81)]
+    gravity: f64,
+    /// Print RON instead of a table.
+    #[arg(long)]
+    ron: bool,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run(args) => cmd_run(args),
+        Command::Theory(args) => cmd_theory(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn set_threads(threads: Option<usize>) -> Result<()> {
+    if let Some(n) = threads {
+        if n == 0 {
+            bail!("--threads must be at least 1");
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .context("cannot start the worker threads")?;
+    }
+    Ok(())
+}
+
+/// Parses `--set NAME=VALUE` arguments.
+fn parse_sets(sets: &[String]) -> Result<CaseOptions> {
+    let mut options = CaseOptions::default();
+    for s in sets {
+        let Some((name, value)) = s.split_once('=') else {
+            bail!("--set {s}: expected NAME=VALUE, e.g. --set duration=6");
+        };
+        let name = name.trim();
+        if name.is_empty() {
+            bail!("--set {s}: the parameter name is empty");
+        }
+        options
+            .overrides
+            .push((name.to_string(), parse_set_value(value)));
+    }
+    Ok(options)
+}
+
+fn cmd_run(args: RunArgs) -> Result<()> {
+    set_threads(args.threads)?;
+    if args.list_params {
+        let params = list_params(&args.case)?;
+        println!("{:<24} {:<16} default", "parameter", "type");
+        for p in params {
+            println!("{:<24} {:<16} {}", p.name, p.default.type_name(), p.default);
+        }
+        return Ok(());
+    }
+    let options = parse_sets(&args.set)?;
+    let case = load_case(&args.case, &options)?;
+    let out = args
+        .out
+        .unwrap_or_else(|| PathBuf::from("out").join(&case.name));
+    let opts = RunOptions {
+        out_dir: out,
+        progress: !args.quiet,
+        verbose: !args.quiet,
+        plots: true,
+    };
+    run_case(case, &opts)?;
+    Ok(())
+}
+
+fn cmd_theory(args: TheoryArgs) -> Result<()> {
+    use slosh_theory::{tank_report, SineExcitation, TankInput};
+    let mut input = match args.shape.as_str() {
+        "rect" | "rectangle" | "rectangular" => {
+            let w = args
+                .width
+                .context("a rectangular tank needs --width (inner width 2l, m)")?;
+            TankInput::rectangular(w, args.depth)
+        }
+        "cylinder" | "cyl" => {
+            let r = args
+                .radius
+                .context("a cylinder needs --radius (inner radius R, m)")?;
+            TankInput::cylindrical(r, args.depth)
+        }
+        other => bail!("unknown tank shape \"{other}\": use rect or cylinder"),
+    };
+    input.gravity = args.gravity;
+    input.tank_height = args.tank_height;
+    input.peak_ground_accel = args.pga;
+    input.spectral_accel_g = args.sa;
+    match (args.amplitude, args.omega) {
+        (Some(amplitude), Some(omega)) => {
+            input.sine = Some(SineExcitation {
+                amplitude,
+                omega,
+                duration: 10.0,
+            })
+        }
+        (None, None) => {}
+        _ => bail!("a sine excitation needs both --amplitude and --omega"),
+    }
+    let report = tank_report(&input);
+    if args.ron {
+        println!(
+            "{}",
+            ron::ser::to_string_pretty(&report, ron::ser::PrettyConfig::default())?
+        );
+    } else {
+        println!("{report}");
+    }
+    Ok(())
+}

@@ -80,3 +80,21 @@ fn explore_resonant_paper_case() {
     let el = t0.elapsed().as_secs_f64();
     eprintln!("steps {} wall {el:.1}s => {:.3e} particle-steps/s", sim.steps(), sim.steps() as f64 * 1250.0 / el);
 }
+
+/// Exploration: throughput at dx = 0.005 (≈20k fluid particles).
+#[test]
+#[ignore]
+fn explore_throughput() {
+    for backend in [NeighbourBackend::CellGrid, NeighbourBackend::KdTree] {
+        let setup = box_tank::<2>([1.0, 1.0], 0.5, 0.0, 0.005);
+        let n = setup.fluid_positions.len() + setup.wall_positions.len();
+        let params = SphParams { neighbour_backend: backend, ..SphParams::default() };
+        let mut sim = Simulation::new(setup, params).unwrap();
+        for _ in 0..20 { sim.step(Vector::<2>::zeros()).unwrap(); }
+        let t0 = std::time::Instant::now();
+        let steps = 300;
+        for _ in 0..steps { sim.step(Vector::<2>::zeros()).unwrap(); }
+        let el = t0.elapsed().as_secs_f64();
+        eprintln!("{backend:?}: {n} particles, {:.3e} particle-steps/s (fluid only {:.3e})", steps as f64 * n as f64 / el, steps as f64 * sim.fluid().position.len() as f64 / el);
+    }
+}

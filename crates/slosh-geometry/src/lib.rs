@@ -1,14 +1,78 @@
-//! Tanks as parry shapes, turned into the solver's initial particles.
+//! Tanks as parry shapes, turned into the solver's initial particles
+//! ([`slosh_core::ParticleSetup`]).
 //!
 //! * [`RectTank2`]: the paper's 2D rectangular tank (two lattice layouts, [`Layout`]).
+//! * [`CylinderTank`]: an upright cylinder (axis x = y = 0, floor z = 0) with a [`Roof`]
+//!   (none, flat, cone, dome, or a closed mesh file of the whole interior), optional
+//!   [`InternalSolid`]s (columns, baffle rings).
+//! * [`BoxTank`]: a 3D rectangular box, to compare 2D and 3D runs.
+//! * [`SurfaceMesh`]: OBJ/STL reading, OBJ writing, closedness checks, procedural meshes
+//!   ([`cylinder_roof_mesh_obj`] writes the example files of `geometry/`).
 //!
 //! All lengths are in metres; the vertical axis is the last coordinate, up positive.
 //! Wall particles carry their part (`bottom` = 0, `wall` = 1, `roof` = 2, then user parts),
-//! layer (1 = next to the liquid), outward normal (from the liquid into the wall) and the
-//! boundary area they stand for (innermost layer only).
+//! layer (1 = next to the liquid), normal (from the liquid into the wall) and the boundary
+//! area they stand for (innermost layer only; each part's areas sum to its surface area).
+//!
+//! # 3D rules (cylinder and box)
+//! The tank is a closed triangle mesh (a parry3d `TriMesh` with the `ORIENTED` flag; the
+//! built-in shapes are meshed with facets ≤ dx and chord error ≤ dx/1000; open tanks get a
+//! virtual lid above the shell that makes no particles). Lattice points are at
+//! ((i+½)dx, (j+½)dx, (k+½)dx).
+//! * fluid: lattice points inside the tank and outside every internal solid, below the
+//!   (tilted) fill surface z < fill_level + tilt·(1 − 2ξ), ξ the fractional x position across
+//!   the tank; `fill_level` is the top of the lattice rows below the fill depth (rows·dx);
+//! * walls: lattice points outside the tank, or inside an internal solid, within
+//!   `layers`·dx (+1e-6 dx) Euclidean distance of that surface; open tanks only below the shell
+//!   top; a point that qualifies for several surfaces takes the nearest;
+//! * layer = ceil(distance/dx) clamped to 1..=layers;
+//! * part: that of the nearest surface triangle (floor triangles `bottom`, triangles at or
+//!   above the shell top `roof`, others `wall`, solids their own name); where parts meet the
+//!   part whose face plane is nearest, ties to roof over wall over bottom (as the 2D corners);
+//! * normal (liquid → wall): the face normal of that triangle, or the direction from the
+//!   nearest surface point to the particle where edges/vertices of a single part are nearest;
+//! * area: the wetted surface of each part is sampled at ≤ dx/2 spacing, each sample's area
+//!   goes to the nearest innermost-layer particle of the same part, and each part's areas are
+//!   scaled to sum exactly to its area (analytic for the built-in shapes, the wetted mesh area
+//!   otherwise). All other particles get 0.
+
+#![warn(missing_docs)]
 
 mod error;
+mod mesh;
 mod rect2;
+mod tank3;
 
 pub use error::{GeometryError, MAX_PARTICLES};
+pub use mesh::{box_mesh, circle_segments, revolve_profile, SurfaceMesh};
 pub use rect2::{Layout, RectInterior2, RectLattice2, RectTank2};
+pub use tank3::{BoxTank, CylinderTank, InternalSolid, Roof, SolidShape, TankRegion3};
+
+/// Writes the closed interior surface of a cylinder of `radius` and `shell_height` (m) with
+/// `roof` (not `Roof::Mesh`/`Roof::None`) to an OBJ file at `path`, using facets no wider than
+/// `max_edge` (m); returns the mesh written. Used to make the example meshes in `geometry/`.
+pub fn cylinder_roof_mesh_obj(
+    path: &std::path::Path,
+    radius: f64,
+    shell_height: f64,
+    roof: Roof,
+    max_edge: f64,
+) -> Result<SurfaceMesh, GeometryError> {
+    if matches!(roof, Roof::Mesh(_) | Roof::None) {
+        return Err(GeometryError::InvalidShape(
+            "cylinder_roof_mesh_obj needs a flat, cone or dome roof".into(),
+        ));
+    }
+    let tank = CylinderTank::new(radius, shell_height, shell_height, roof.clone());
+    let mesh = tank.interior_surface(max_edge, shell_height)?;
+    let comment = format!(
+        "slosh tank interior: upright cylinder R = {radius} m, shell height {shell_height} m, roof {roof:?}\n\
+         units m; axis x = y = 0; floor z = 0; normals point out of the liquid (CCW seen from outside)"
+    );
+    mesh.write_obj(path, &comment)
+        .map_err(|e| GeometryError::MeshRead {
+            path: path.display().to_string(),
+            message: format!("cannot write: {e}"),
+        })?;
+    Ok(mesh)
+}

@@ -47,6 +47,12 @@ fn offset_layout_gives_the_exact_block() {
     assert!((part_area(&setup, 0) - 1.0).abs() < 1e-12);
     assert!((part_area(&setup, 1) - 2.0).abs() < 1e-12);
     assert!((part_area(&setup, 2) - 1.0).abs() < 1e-12);
+    // each side wall separately: H
+    let left: f64 = (0..setup.wall_positions.len())
+        .filter(|&w| setup.wall_part[w] == 1 && setup.wall_positions[w].x < 0.5)
+        .map(|w| setup.wall_area[w])
+        .sum();
+    assert!((left - 1.0).abs() < 1e-12);
 }
 
 #[test]
@@ -219,5 +225,52 @@ fn err<T>(r: Result<T, GeometryError>) -> GeometryError {
     match r {
         Ok(_) => panic!("expected an error"),
         Err(e) => e,
+    }
+}
+
+/// Cubic B-spline kernel, 2D normalisation 10/(7π h²).
+fn kernel2(r: f64, h: f64) -> f64 {
+    let q = r / h;
+    let sigma = 10.0 / (7.0 * std::f64::consts::PI * h * h);
+    if q < 1.0 {
+        sigma * (1.0 - 1.5 * q * q + 0.75 * q * q * q)
+    } else if q < 2.0 {
+        sigma * 0.25 * (2.0 - q).powi(3)
+    } else {
+        0.0
+    }
+}
+
+#[test]
+fn full_tank_wall_has_no_gaps_in_2d() {
+    for layout in [Layout::Offset, Layout::Paper] {
+        let dx = 0.02;
+        let s = RectTank2::new(0.4, 0.3, 0.3)
+            .with_layout(layout)
+            .build(dx)
+            .unwrap();
+        let (lo, hi) = (s.interior_min, s.interior_max);
+        let e = 0.01 * dx;
+        let mut pts = vec![
+            Vector2::new(lo.x + e, lo.y + e),
+            Vector2::new(hi.x - e, lo.y + e),
+            Vector2::new(lo.x + e, hi.y - e),
+            Vector2::new(hi.x - e, hi.y - e),
+        ];
+        for k in 1..10 {
+            let t = k as f64 / 10.0;
+            pts.push(Vector2::new(lo.x + t * (hi.x - lo.x), lo.y + e));
+            pts.push(Vector2::new(lo.x + t * (hi.x - lo.x), hi.y - e));
+            pts.push(Vector2::new(lo.x + e, lo.y + t * (hi.y - lo.y)));
+        }
+        for x in pts {
+            let sum: f64 = s
+                .fluid_positions
+                .iter()
+                .chain(&s.wall_positions)
+                .map(|p| dx * dx * kernel2((p - x).norm(), 1.3 * dx))
+                .sum();
+            assert!(sum >= 0.95, "{layout:?}: kernel sum {sum} at {x}");
+        }
     }
 }

@@ -64,7 +64,11 @@ pub fn aci350_rectangular_masses(length: f64, depth: f64) -> CodeMasses {
     CodeMasses {
         impulsive_mass_ratio: xi.tanh() / xi,
         convective_mass_ratio: 0.264 * ratio * (3.16 / ratio).tanh(),
-        impulsive_height_ratio: if ratio >= 1.333 { 0.375 } else { 0.5 - 0.09375 * ratio },
+        impulsive_height_ratio: if ratio >= 1.333 {
+            0.375
+        } else {
+            0.5 - 0.09375 * ratio
+        },
         convective_height_ratio: convective_height_ratio(3.16 / ratio),
     }
 }
@@ -79,7 +83,11 @@ pub fn api650_circular_masses(diameter: f64, depth: f64) -> CodeMasses {
     let xi = 0.866 * ratio;
     let broad = ratio >= 1.333;
     CodeMasses {
-        impulsive_mass_ratio: if broad { xi.tanh() / xi } else { 1.0 - 0.218 * ratio },
+        impulsive_mass_ratio: if broad {
+            xi.tanh() / xi
+        } else {
+            1.0 - 0.218 * ratio
+        },
         convective_mass_ratio: 0.230 * ratio * (3.67 / ratio).tanh(),
         impulsive_height_ratio: if broad { 0.375 } else { 0.5 - 0.094 * ratio },
         convective_height_ratio: convective_height_ratio(3.67 / ratio),
@@ -282,9 +290,18 @@ mod tests {
         assert!((ec8_circular_wave_height(15.0, 0.1) - 1.26).abs() < 1e-12);
         assert!((ec8_rectangular_wave_height(10.0, 0.2) - 1.0).abs() < 1e-12);
         assert!((aci350_rectangular_wave_height(10.0, 0.2) - 1.0).abs() < 1e-12);
-        assert_eq!(freeboard_check(Some(1.3), Some(1.26)).verdict, FreeboardVerdict::Ok);
-        assert_eq!(freeboard_check(Some(1.0), Some(1.26)).verdict, FreeboardVerdict::Insufficient);
-        assert_eq!(freeboard_check(None, Some(1.26)).verdict, FreeboardVerdict::NotEvaluated);
+        assert_eq!(
+            freeboard_check(Some(1.3), Some(1.26)).verdict,
+            FreeboardVerdict::Ok
+        );
+        assert_eq!(
+            freeboard_check(Some(1.0), Some(1.26)).verdict,
+            FreeboardVerdict::Insufficient
+        );
+        assert_eq!(
+            freeboard_check(None, Some(1.26)).verdict,
+            FreeboardVerdict::NotEvaluated
+        );
     }
 
     #[test]

@@ -26,9 +26,9 @@ const EXACT_ZEROS: usize = 12;
 /// Number of modes summed for masses and heights (tail ~ 1/N², < 1e-6 relative).
 const MASS_TERMS: usize = 2000;
 
-/// n-th zero (n ≥ 1) of J₁′ from McMahon's asymptotic expansion (A&S 9.5.13, μ = 4):
-/// ξ ≈ β − 7/(8β) − 4·7·(7·4 + 3·... ) truncated after two correction terms, β = (n − 1/4)π.
-/// Relative error < 1e-7 for n ≥ 12.
+/// n-th zero (n ≥ 1) of J₁′ from McMahon's asymptotic expansion (A&S 9.5.13, μ = 4m² = 4):
+/// ξ ≈ β − (μ+3)/(8β) − 4(7μ² + 82μ − 9)/(3(8β)³), β = (n − 1/4)π.
+/// Relative error < 1e-7 for n ≥ 12 (checked in the tests).
 fn j1_derivative_zero_asymptotic(n: usize) -> f64 {
     let beta = (n as f64 - 0.25) * PI;
     // A&S 9.5.13 with μ = 4m² = 4: β' − (μ+3)/(8β') − 4(7μ² + 82μ − 9)/(3(8β')³)
@@ -56,7 +56,9 @@ pub struct CylindricalTank {
 impl CylindricalTank {
     /// Tank of radius R (m), depth H (m), density ρ (kg/m³), gravity g (m/s²).
     pub fn new(radius: f64, depth: f64, density: f64, gravity: f64) -> Self {
-        let eigenvalues: Vec<f64> = (1..=EXACT_ZEROS).map(|n| cylinder_eigenvalue(1, n)).collect();
+        let eigenvalues: Vec<f64> = (1..=EXACT_ZEROS)
+            .map(|n| cylinder_eigenvalue(1, n))
+            .collect();
         let j1_at_eigenvalues = eigenvalues.iter().map(|&x| bessel_j(1, x)).collect();
         Self {
             radius,
@@ -109,7 +111,8 @@ impl CylindricalTank {
         let g = self.gravity;
         let mut zeta = self.radius * s.body_force / g;
         for (j, &beta) in s.amplitude.iter().enumerate() {
-            zeta += (beta - self.modal_coefficient(j) * s.body_force / g) * self.j1_at_eigenvalue(j);
+            zeta +=
+                (beta - self.modal_coefficient(j) * s.body_force / g) * self.j1_at_eigenvalue(j);
         }
         zeta
     }
@@ -287,7 +290,9 @@ mod tests {
         // 1e-5 m: decayed transient; 1e-3 relative for F.
         let tank = CylindricalTank::water(0.5, 0.5);
         let dt = 0.01;
-        let f: Vec<f64> = (0..3000).map(|k| 0.981 * (k as f64 * dt / 2.0).min(1.0)).collect();
+        let f: Vec<f64> = (0..3000)
+            .map(|k| 0.981 * (k as f64 * dt / 2.0).min(1.0))
+            .collect();
         let last = time_history_response(&tank, dt, &f, 6, 0.1).pop().unwrap();
         assert!((tank.wall_elevation(&last) - 0.05).abs() < 1e-5);
         let m = tank.liquid_mass();
@@ -320,7 +325,13 @@ mod tests {
         let mut integral = 0.0;
         for i in 0..=n {
             let z = -tank.depth + i as f64 * h;
-            let w = if i == 0 || i == n { 1.0 } else if i % 2 == 1 { 4.0 } else { 2.0 };
+            let w = if i == 0 || i == n {
+                1.0
+            } else if i % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
             integral += w * tank.pressure(&s, tank.radius, 0.0, z);
         }
         integral *= h / 3.0 * PI * tank.radius;

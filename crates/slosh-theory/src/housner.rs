@@ -15,10 +15,18 @@ const C5: f64 = 1.5811388300841898;
 /// Impulsive pressure, paper Eq. 25 (Pa): p = ρ a H √3 [h/H − ½(h/H)²] sinh(√3 x/H)/cosh(√3 l/H).
 /// `accel` a is the inertial body force per unit mass on the fluid (m/s², along +x; a = −a_g),
 /// `x` (m) from the centre, `depth_below_surface` h ∈ [0, H] (m). Positive on the +x wall for a > 0.
-pub fn impulsive_pressure(density: f64, accel: f64, depth: f64, half_width: f64, x: f64, depth_below_surface: f64) -> f64 {
+pub fn impulsive_pressure(
+    density: f64,
+    accel: f64,
+    depth: f64,
+    half_width: f64,
+    x: f64,
+    depth_below_surface: f64,
+) -> f64 {
     let s3 = 3f64.sqrt();
     let r = depth_below_surface / depth;
-    density * accel * depth * s3 * (r - 0.5 * r * r) * (s3 * x / depth).sinh() / (s3 * half_width / depth).cosh()
+    density * accel * depth * s3 * (r - 0.5 * r * r) * (s3 * x / depth).sinh()
+        / (s3 * half_width / depth).cosh()
 }
 
 /// Convective pressure, paper Eq. 26 (Pa), written with the free-surface slope
@@ -27,7 +35,15 @@ pub fn impulsive_pressure(density: f64, accel: f64, depth: f64, half_width: f64,
 /// The paper prints a minus sign with θ_H; that matches this function for θ_H = −dζ/dx (the
 /// physical requirement is p ≈ ρ g ζ > 0 near the top of the wall where the surface is raised).
 /// `omega` ω (rad/s) is the first natural circular frequency, `height_above_bottom` y ∈ [0, H].
-pub fn convective_pressure(density: f64, half_width: f64, depth: f64, omega: f64, surface_slope: f64, x: f64, height_above_bottom: f64) -> f64 {
+pub fn convective_pressure(
+    density: f64,
+    half_width: f64,
+    depth: f64,
+    omega: f64,
+    surface_slope: f64,
+    x: f64,
+    height_above_bottom: f64,
+) -> f64 {
     let l = half_width;
     let xi = x / l;
     density * 0.5 * l * l * C5 * (xi - xi.powi(3) / 3.0) * (C5 * height_above_bottom / l).cosh()
@@ -63,14 +79,18 @@ pub fn impulsive_mass(density: f64, half_width: f64, depth: f64) -> f64 {
 
 /// Housner convective mass (kg/m): m_1 = m (1/3)√(5/2)(l/H) tanh(√(5/2) H/l) = 0.527 m (l/H) tanh(1.58 H/l).
 pub fn convective_mass(density: f64, half_width: f64, depth: f64) -> f64 {
-    2.0 * density * half_width * depth * C5 / 3.0 * half_width / depth * (C5 * depth / half_width).tanh()
+    2.0 * density * half_width * depth * C5 / 3.0 * half_width / depth
+        * (C5 * depth / half_width).tanh()
 }
 
 /// Housner heights above the bottom (m), bottom pressure excluded:
 /// (h_i = 3H/8, h_c = H[1 − (cosh x − 1)/(x sinh x)], x = √(5/2) H/l).
 pub fn heights(half_width: f64, depth: f64) -> (f64, f64) {
     let x = C5 * depth / half_width;
-    (0.375 * depth, depth * (1.0 - (x.cosh() - 1.0) / (x * x.sinh())))
+    (
+        0.375 * depth,
+        depth * (1.0 - (x.cosh() - 1.0) / (x * x.sinh())),
+    )
 }
 
 /// Surface slope s (rad, = dζ/dx) of Housner's convective mode for a convective-mass

@@ -3,6 +3,8 @@
 //! shear, Malhotra and Kurihara roof pressures, code formulas (API 650 / ACI 350.3 / EC8-4),
 //! and a one-call tank report. Pure functions, SI units (m, s, kg, Pa, N; 2D forces per metre).
 
+#![warn(missing_docs)]
+
 pub mod bessel;
 pub mod codes;
 pub mod cylinder;
@@ -10,4 +12,7 @@ pub mod housner;
 pub mod linear;
 pub mod modal;
 pub mod natural;
+pub mod report;
 pub mod roof;
+
+pub use report::{tank_report, SineExcitation, TankInput, TankReport, TankShape};

@@ -234,7 +234,9 @@ mod tests {
         let (amp, big_w) = (0.3, 4.7);
         let dt = 1e-3;
         let n = 8000;
-        let f: Vec<f64> = (0..n).map(|k| amp * (big_w * k as f64 * dt).sin()).collect();
+        let f: Vec<f64> = (0..n)
+            .map(|k| amp * (big_w * k as f64 * dt).sin())
+            .collect();
         let hist = time_history_response(&tank, dt, &f, 5, 0.0);
         let mut peak = 0.0f64;
         let mut worst = 0.0f64;
@@ -287,7 +289,10 @@ mod tests {
             let zd = tank.elevation_rate(&s, 0.0);
             let w1 = tank.modal_omega(0);
             let envelope = (z * z + (zd / w1).powi(2)).sqrt();
-            assert!((envelope - want).abs() < 0.02 * want + 0.0015, "t={t}: {envelope}");
+            assert!(
+                (envelope - want).abs() < 0.02 * want + 0.0015,
+                "t={t}: {envelope}"
+            );
         }
     }
 
@@ -318,7 +323,10 @@ mod tests {
         for j in 0..20000 {
             via_modes -= tank.convective_mass(j);
         }
-        assert!((tank.impulsive_mass() - via_modes).abs() < 1e-3, "{via_modes}");
+        assert!(
+            (tank.impulsive_mass() - via_modes).abs() < 1e-3,
+            "{via_modes}"
+        );
         // (b) L ≫ H: m_i → 4ρH² Σ (2/((2m−1)π))³ = 28 ζ(3) ρH²/π³ = 1.085509 ρH² (hand, ζ(3) =
         //     1.2020569). L/H = 100 leaves tanh(λL/2) = 1 to 1e-60; 1e-5 for the series tail.
         let wide = RectangularTank::water(100.0, 1.0);
@@ -352,7 +360,13 @@ mod tests {
         let mut integral = 0.0;
         for i in 0..=n {
             let z = -tank.depth + i as f64 * h;
-            let w = if i == 0 || i == n { 1.0 } else if i % 2 == 1 { 4.0 } else { 2.0 };
+            let w = if i == 0 || i == n {
+                1.0
+            } else if i % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
             integral += w * (tank.pressure(&s, 1.0, z) - tank.pressure(&s, 0.0, z));
         }
         integral *= h / 3.0;
@@ -361,11 +375,20 @@ mod tests {
         let mut imp = 0.0;
         for i in 0..=n {
             let z = -tank.depth + i as f64 * h;
-            let w = if i == 0 || i == n { 1.0 } else if i % 2 == 1 { 4.0 } else { 2.0 };
-            imp += w * (tank.impulsive_pressure(1.0, 1.0, z) - tank.impulsive_pressure(1.0, 0.0, z));
+            let w = if i == 0 || i == n {
+                1.0
+            } else if i % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
+            imp +=
+                w * (tank.impulsive_pressure(1.0, 1.0, z) - tank.impulsive_pressure(1.0, 0.0, z));
         }
         imp *= h / 3.0;
-        assert!((imp - tank.impulsive_base_shear(1.0)).abs() < 1e-3 * tank.impulsive_base_shear(1.0));
+        assert!(
+            (imp - tank.impulsive_base_shear(1.0)).abs() < 1e-3 * tank.impulsive_base_shear(1.0)
+        );
     }
 
     #[test]
@@ -376,7 +399,9 @@ mod tests {
         assert!(tank.impulsive_pressure(1.0, 1.0, 0.0).abs() < 1e-9);
         let hfd = 1e-6;
         let z = -0.3;
-        let dpdx = (tank.impulsive_pressure(1.0, 1.0, z) - tank.impulsive_pressure(1.0, 1.0 - hfd, z)) / hfd;
+        let dpdx = (tank.impulsive_pressure(1.0, 1.0, z)
+            - tank.impulsive_pressure(1.0, 1.0 - hfd, z))
+            / hfd;
         assert!((dpdx - 1000.0).abs() < 2.0, "{dpdx}");
     }
 }

@@ -234,7 +234,10 @@ mod tests {
         // the step is exact for zero load, so 1000 steps agree to 1e-12.
         let (w, z) = (4.0, 0.05);
         let wd = w * (1.0f64 - z * z).sqrt();
-        let mut s = OscillatorState { displacement: 1.0, velocity: -z * w };
+        let mut s = OscillatorState {
+            displacement: 1.0,
+            velocity: -z * w,
+        };
         let dt = 0.01;
         for _ in 0..1000 {
             s = oscillator_step(w, z, s, 0.0, 0.0, dt);

@@ -51,9 +51,16 @@ mod tests {
     #[test]
     fn malhotra_by_hand() {
         // ρ g x_f tan(π/4) = 1000·9.81·0.1·1 = 981 Pa; 1e-9 = round-off of tan(π/4).
-        assert!((malhotra_roof_pressure(1000.0, 9.81, 0.1, MALHOTRA_DEFAULT_ANGLE) - 981.0).abs() < 1e-9);
+        assert!(
+            (malhotra_roof_pressure(1000.0, 9.81, 0.1, MALHOTRA_DEFAULT_ANGLE) - 981.0).abs()
+                < 1e-9
+        );
         // θ = π/3: tan = 1.732051 → 1699.14 Pa
-        assert!((malhotra_roof_pressure(1000.0, 9.81, 0.1, std::f64::consts::FRAC_PI_3) - 1699.14).abs() < 0.01);
+        assert!(
+            (malhotra_roof_pressure(1000.0, 9.81, 0.1, std::f64::consts::FRAC_PI_3) - 1699.14)
+                .abs()
+                < 0.01
+        );
     }
 
     #[test]
@@ -65,7 +72,10 @@ mod tests {
         let p = kurihara_roof_pressure(1000.0, 0.5, 0.1, 0.5, 1.0, 5.311);
         assert!((p - 22451.76).abs() < 0.01, "{p}");
         // v = 0: no impact, no pressure
-        assert_eq!(kurihara_roof_pressure(1000.0, 0.5, 0.1, 0.5, 0.0, 5.311), 0.0);
+        assert_eq!(
+            kurihara_roof_pressure(1000.0, 0.5, 0.1, 0.5, 0.0, 5.311),
+            0.0
+        );
         // quadratic term dominates: doubling v ≈ 4× term 1 + 2× term 2 = 87018.75 + 1394.14
         let p2 = kurihara_roof_pressure(1000.0, 0.5, 0.1, 0.5, 2.0, 5.311);
         assert!((p2 - 88412.89).abs() < 0.01, "{p2}");

@@ -1,0 +1,637 @@
+//! Running a case: the time loop, the measurements of every output interval, and the files
+//! of DESIGN.md §4 (`series.csv`, `summary.ron`, frames, plots).
+
+use crate::build;
+use anyhow::{Context, Result};
+use serde::Serialize;
+use slosh_core::{LoadPeaks, PartLoads, Simulation, SphParams, StepStats, Vector};
+use slosh_io::{FrameSeries, PlotSpec, PointArray, Series, SeriesWriter};
+use slosh_script::{Case, ParamValue, TankSpec};
+use std::collections::VecDeque;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// How to run a case.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// Output folder.
+    pub out_dir: PathBuf,
+    /// Show a progress bar when stderr is a terminal.
+    pub progress: bool,
+    /// Print the particle counts and the result line.
+    pub verbose: bool,
+    /// Write plots (PNG + SVG) at the end.
+    pub plots: bool,
+}
+
+/// The summary written to `summary.ron` (DESIGN.md §4).
+#[derive(Clone, Debug, Serialize)]
+pub struct Summary {
+    /// Program version.
+    pub version: String,
+    /// Case name.
+    pub case: String,
+    /// Script file.
+    pub script: String,
+    /// "completed" or "failed".
+    pub status: String,
+    /// The error message when the run failed.
+    pub error: Option<String>,
+    /// Space dimension.
+    pub dim: usize,
+    /// Fluid particles at the start.
+    pub particles_fluid: usize,
+    /// Wall particles.
+    pub particles_wall: usize,
+    /// Steps taken.
+    pub steps: u64,
+    /// Simulated time reached (s).
+    pub sim_time: f64,
+    /// Settling time (s).
+    pub settle: f64,
+    /// Requested duration (s).
+    pub duration: f64,
+    /// Smallest time step (s).
+    pub dt_min: f64,
+    /// Largest time step (s).
+    pub dt_max: f64,
+    /// Smallest CFL bound seen (s).
+    pub dt_bound_min: f64,
+    /// Steps whose fixed dt exceeded the bound.
+    pub steps_above_dt_bound: u64,
+    /// Wall-clock time of the time loop (s).
+    pub wall_time_s: f64,
+    /// (fluid + wall particles) × steps / wall time, the figure engineering SPH codes quote.
+    pub particle_steps_per_s: f64,
+    /// fluid particles × steps / wall time.
+    pub fluid_particle_steps_per_s: f64,
+    /// Worker threads.
+    pub threads: usize,
+    /// Largest upward roof force (N; 2D N/m), time-windowed pressures.
+    pub max_roof_force_up: f64,
+    /// Time of the largest upward roof force (s).
+    pub t_max_roof_force_up: f64,
+    /// Largest roof pressure (Pa), time-windowed.
+    pub max_roof_p: f64,
+    /// Time of the largest roof pressure (s).
+    pub t_max_roof_p: f64,
+    /// Largest elevation at the left wall (m), over the output rows.
+    pub max_eta_left: f64,
+    /// Lowest elevation at the left wall (m).
+    pub min_eta_left: f64,
+    /// Largest elevation at the right wall (m).
+    pub max_eta_right: f64,
+    /// Largest |base shear x| (N; 2D N/m), time-windowed.
+    pub max_abs_base_shear_x: f64,
+    /// Fluid particles no longer inside the tank at the end.
+    pub lost_particles: usize,
+    /// Smoothing length h (m).
+    pub smoothing_length: f64,
+    /// Lattice spacing dx (m).
+    pub dx: f64,
+    /// EOS sound speed c0 (m/s).
+    pub sound_speed: f64,
+    /// Sound speed of the artificial viscosity (m/s).
+    pub av_sound_speed: f64,
+    /// Scheme preset.
+    pub scheme: String,
+    /// Script parameters with the values used.
+    pub parameters: Vec<(String, ParamValue)>,
+    /// Solver parameters used.
+    pub numerics: SphParams,
+    /// The tank.
+    pub tank: TankSpec,
+    /// Closed-form references for this tank.
+    pub theory: TheoryNumbers,
+    /// Results of the script's `post(run)`.
+    pub post: Vec<(String, ParamValue)>,
+}
+
+/// Closed-form numbers written beside the SPH result.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct TheoryNumbers {
+    /// First sloshing mode, circular frequency (rad/s), potential theory.
+    pub omega_1: f64,
+    /// First sloshing period (s).
+    pub period_1: f64,
+}
+
+/// One row of `series.csv` waiting for its time-windowed loads.
+struct PendingRow {
+    step: u64,
+    values: Vec<f64>,
+}
+
+/// Column layout of `series.csv`.
+struct Columns {
+    names: Vec<(String, String)>,
+    idx_base_shear_x: usize,
+    idx_roof_force_up: usize,
+    n_before_loads: usize,
+}
+
+fn columns(dim: usize, gauges: &[slosh_script::GaugeSpec]) -> Columns {
+    let force = if dim == 2 { "N/m" } else { "N" };
+    let energy = if dim == 2 { "J/m" } else { "J" };
+    let mut names: Vec<(String, String)> = vec![("t".into(), "s".into())];
+    names.push(("accel_x".into(), "m/s2".into()));
+    if dim == 3 {
+        names.push(("accel_y".into(), "m/s2".into()));
+        names.push(("accel_z".into(), "m/s2".into()));
+    } else {
+        names.push(("accel_y".into(), "m/s2".into()));
+    }
+    names.push(("eta_left".into(), "m".into()));
+    names.push(("eta_right".into(), "m".into()));
+    for g in gauges {
+        names.push((format!("eta_{}", g.name), "m".into()));
+    }
+    names.push(("kinetic_energy".into(), energy.into()));
+    names.push(("n_fluid".into(), "1".into()));
+    names.push(("dt".into(), "s".into()));
+    let n_before_loads = names.len();
+    let idx_base_shear_x = names.len();
+    names.push(("base_shear_x".into(), force.into()));
+    if dim == 3 {
+        names.push(("base_shear_y".into(), force.into()));
+    }
+    let idx_roof_force_up = names.len();
+    names.push(("roof_force_up".into(), force.into()));
+    names.push(("roof_p_max".into(), "Pa".into()));
+    names.push(("wall_p_max".into(), "Pa".into()));
+    names.push(("bottom_force_down".into(), force.into()));
+    Columns {
+        names,
+        idx_base_shear_x,
+        idx_roof_force_up,
+        n_before_loads,
+    }
+}
+
+/// Runs a case to the end (or to a blow-up, keeping what was written) and returns the summary.
+pub fn run_case(mut case: Case, opts: &RunOptions) -> Result<Summary> {
+    std::fs::create_dir_all(&opts.out_dir)
+        .with_context(|| format!("cannot create the output folder {}", opts.out_dir.display()))?;
+    let script_dir = case
+        .script
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_default();
+    match case.dim() {
+        2 => {
+            let setup = build::build_2d(&case.tank, case.dx)?;
+            let sim = Simulation::<2>::new(setup, case.sph.clone())?;
+            run_loop(sim, &mut case, opts)
+        }
+        _ => {
+            let setup = build::build_3d(&case.tank, case.dx, &script_dir)?;
+            let sim = Simulation::<3>::new(setup, case.sph.clone())?;
+            run_loop(sim, &mut case, opts)
+        }
+    }
+}
+
+/// Horizontal positions of the left and right wall gauges: on the x axis, one lattice
+/// spacing inside the interior from the wall face.
+fn wall_gauges<const D: usize>(sim: &Simulation<D>) -> (Vec<f64>, Vec<f64>) {
+    let (lo, hi) = sim.interior_bounds();
+    let dx = sim.spacing();
+    let mut left = vec![0.0; D - 1];
+    let mut right = vec![0.0; D - 1];
+    left[0] = lo[0] + dx;
+    right[0] = hi[0] - dx;
+    for k in 1..D - 1 {
+        let centre = 0.5 * (lo[k] + hi[k]);
+        left[k] = centre;
+        right[k] = centre;
+    }
+    (left, right)
+}
+
+fn theory_numbers(tank: &TankSpec, gravity: f64) -> TheoryNumbers {
+    use slosh_theory::natural;
+    let omega_1 = match tank {
+        TankSpec::Rect { width, depth, .. } => natural::rectangular_omega(*width, *depth, gravity, 1),
+        TankSpec::Box { length, depth, .. } => {
+            natural::rectangular_omega(*length, *depth, gravity, 1)
+        }
+        TankSpec::Cylinder { radius, depth, .. } => {
+            natural::cylinder_omega(*radius, *depth, gravity, 1, 1)
+        }
+    };
+    TheoryNumbers {
+        omega_1,
+        period_1: 2.0 * std::f64::consts::PI / omega_1,
+    }
+}
+
+fn run_loop<const D: usize>(
+    mut sim: Simulation<D>,
+    case: &mut Case,
+    opts: &RunOptions,
+) -> Result<Summary> {
+    let out = &opts.out_dir;
+    let n_fluid0 = sim.fluid().position.len();
+    let n_wall = sim.walls().position.len();
+    if opts.verbose {
+        eprintln!(
+            "{}: {}D, {} fluid + {} wall particles, dx = {} m, h = {:.4} m, c0 = {:.2} m/s",
+            case.name,
+            D,
+            n_fluid0,
+            n_wall,
+            sim.spacing(),
+            sim.smoothing_length(),
+            sim.sound_speed()
+        );
+    }
+    let cols = columns(D, &case.gauges);
+    let mut writer = SeriesWriter::create(out.join("series.csv"), &cols.names)?;
+    let mut history: Vec<Vec<f64>> = vec![Vec::new(); cols.names.len()];
+    let mut frames = if case.run.frame_interval > 0.0 {
+        Some(FrameSeries::new(out.join("frames")))
+    } else {
+        None
+    };
+    let (left, right) = wall_gauges(&sim);
+    let fill = sim.fill_level();
+    let roof_part = sim.part_names().iter().position(|n| n == "roof");
+    let wall_part = sim.part_names().iter().position(|n| n == "wall");
+    let bottom_part = sim.part_names().iter().position(|n| n == "bottom");
+
+    let settle = case.run.settle;
+    let duration = case.run.duration;
+    let interval = case.run.output_interval;
+    let mut next_output = 0.0;
+    let mut next_frame = 0.0;
+    let mut pending: VecDeque<PendingRow> = VecDeque::new();
+    let progress = make_progress(opts, duration);
+    let started = Instant::now();
+    let mut failure: Option<anyhow::Error> = None;
+    let eps = 1e-9;
+
+    let complete_row = |row: PendingRow,
+                        loads: &PartLoads<D>,
+                        writer: &mut SeriesWriter,
+                        history: &mut Vec<Vec<f64>>|
+     -> Result<()> {
+        let mut values = row.values;
+        let shear = slosh_core::loads::base_shear_x(loads, roof_part);
+        values.push(shear);
+        if D == 3 {
+            let shear_y: f64 = loads
+                .force
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| Some(*k) != roof_part)
+                .map(|(_, f)| f[1])
+                .sum();
+            values.push(shear_y);
+        }
+        let pick = |part: Option<usize>| part.map(|k| loads.force[k][D - 1]).unwrap_or(0.0);
+        values.push(pick(roof_part));
+        values.push(roof_part.map(|k| loads.peak_pressure[k]).unwrap_or(0.0));
+        values.push(wall_part.map(|k| loads.peak_pressure[k]).unwrap_or(0.0));
+        values.push(-pick(bottom_part));
+        writer.write_row(&values)?;
+        for (h, v) in history.iter_mut().zip(&values) {
+            h.push(*v);
+        }
+        Ok(())
+    };
+
+    while sim.time() < duration - eps {
+        let t = sim.time();
+        let accel3 = if t >= settle - eps {
+            match case.excitation.ground_accel(t - settle) {
+                Ok(a) => a,
+                Err(e) => {
+                    failure = Some(e.into());
+                    break;
+                }
+            }
+        } else {
+            [0.0; 3]
+        };
+        let mut ground = Vector::<D>::zeros();
+        if D == 2 {
+            ground[0] = accel3[0];
+            ground[1] = accel3[2];
+        } else {
+            for (k, a) in accel3.iter().enumerate().take(D) {
+                ground[k] = *a;
+            }
+        }
+        if t >= next_output - eps {
+            let mut values = Vec::with_capacity(cols.names.len());
+            values.push(t);
+            values.push(accel3[0]);
+            if D == 3 {
+                values.push(accel3[1]);
+                values.push(accel3[2]);
+            } else {
+                values.push(accel3[2]);
+            }
+            let eta = |h: &[f64]| sim.surface_level_at(h).map(|z| z - fill).unwrap_or(f64::NAN);
+            values.push(eta(&left));
+            values.push(eta(&right));
+            for g in &case.gauges {
+                values.push(eta(&g.horizontal));
+            }
+            values.push(sim.kinetic_energy());
+            values.push(sim.fluid_inside() as f64);
+            values.push(sim.last_dt());
+            debug_assert_eq!(values.len(), cols.n_before_loads);
+            pending.push_back(PendingRow {
+                step: sim.steps(),
+                values,
+            });
+            while next_output <= t + eps {
+                next_output += interval;
+            }
+        }
+        if let Some(fr) = frames.as_mut() {
+            if t >= next_frame - eps {
+                write_frame(fr, &sim, t)?;
+                while next_frame <= t + eps {
+                    next_frame += case.run.frame_interval;
+                }
+            }
+        }
+        if let Err(e) = sim.step(ground) {
+            failure = Some(e.into());
+            break;
+        }
+        if let Some(loads) = sim.loads().centred() {
+            while pending.front().is_some_and(|r| r.step <= loads.step) {
+                let row = pending.pop_front().expect("front");
+                complete_row(row, loads, &mut writer, &mut history)?;
+            }
+        }
+        if let Some(pb) = &progress {
+            pb.set_position((sim.time() * 1000.0) as u64);
+            if sim.steps() % 50 == 0 {
+                let el = started.elapsed().as_secs_f64();
+                pb.set_message(format!("{:.0} steps/s", sim.steps() as f64 / el.max(1e-9)));
+            }
+        }
+    }
+    let wall_time = started.elapsed().as_secs_f64();
+    if let Some(pb) = &progress {
+        pb.finish_and_clear();
+    }
+    // The last N steps: windows cut at the end of the run.
+    {
+        let mut rows = Vec::new();
+        sim.loads_mut().flush_tail(|loads, _| rows.push(loads.clone()));
+        for loads in rows {
+            while pending.front().is_some_and(|r| r.step <= loads.step) {
+                let row = pending.pop_front().expect("front");
+                complete_row(row, &loads, &mut writer, &mut history)?;
+            }
+        }
+        // Rows of a run without any load point (no wall area) or after a failure before the
+        // first load evaluation: write zeros for the loads.
+        while let Some(row) = pending.pop_front() {
+            let mut values = row.values;
+            values.resize(cols.names.len(), 0.0);
+            writer.write_row(&values)?;
+            for (h, v) in history.iter_mut().zip(&values) {
+                h.push(*v);
+            }
+        }
+    }
+    writer.flush()?;
+    if let Some(fr) = frames.as_mut() {
+        if failure.is_none() {
+            write_frame(fr, &sim, sim.time())?;
+        }
+    }
+
+    let peaks: LoadPeaks = sim.loads().peaks();
+    let stats: StepStats = sim.step_stats();
+    let particles = (n_fluid0 + n_wall) as f64;
+    let steps = sim.steps();
+    let col = |name: &str| {
+        cols.names
+            .iter()
+            .position(|(n, _)| n == name)
+            .map(|i| &history[i])
+    };
+    let max_of = |v: Option<&Vec<f64>>| {
+        v.map(|v| v.iter().copied().filter(|x| x.is_finite()).fold(f64::NEG_INFINITY, f64::max))
+            .unwrap_or(f64::NAN)
+    };
+    let min_of = |v: Option<&Vec<f64>>| {
+        v.map(|v| v.iter().copied().filter(|x| x.is_finite()).fold(f64::INFINITY, f64::min))
+            .unwrap_or(f64::NAN)
+    };
+    let lost = n_fluid0 - sim.fluid_inside();
+    let _ = (cols.idx_base_shear_x, cols.idx_roof_force_up);
+    let mut summary = Summary {
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        case: case.name.clone(),
+        script: case.script.display().to_string(),
+        status: if failure.is_some() { "failed" } else { "completed" }.into(),
+        error: failure.as_ref().map(|e| format!("{e:#}")),
+        dim: D,
+        particles_fluid: n_fluid0,
+        particles_wall: n_wall,
+        steps,
+        sim_time: sim.time(),
+        settle,
+        duration,
+        dt_min: if steps > 0 { stats.dt_min } else { 0.0 },
+        dt_max: stats.dt_max,
+        dt_bound_min: if steps > 0 { stats.dt_bound_min } else { 0.0 },
+        steps_above_dt_bound: stats.steps_above_bound,
+        wall_time_s: wall_time,
+        particle_steps_per_s: particles * steps as f64 / wall_time.max(1e-9),
+        fluid_particle_steps_per_s: n_fluid0 as f64 * steps as f64 / wall_time.max(1e-9),
+        threads: rayon::current_num_threads(),
+        max_roof_force_up: peaks.max_roof_force_up,
+        t_max_roof_force_up: peaks.t_max_roof_force_up,
+        max_roof_p: peaks.max_roof_p,
+        t_max_roof_p: peaks.t_max_roof_p,
+        max_eta_left: max_of(col("eta_left")),
+        min_eta_left: min_of(col("eta_left")),
+        max_eta_right: max_of(col("eta_right")),
+        max_abs_base_shear_x: peaks.max_abs_base_shear_x,
+        lost_particles: lost,
+        smoothing_length: sim.smoothing_length(),
+        dx: sim.spacing(),
+        sound_speed: sim.sound_speed(),
+        av_sound_speed: sim.av_sound_speed(),
+        scheme: case.scheme.clone(),
+        parameters: case
+            .params
+            .iter()
+            .map(|p| (p.name.clone(), p.value.clone()))
+            .collect(),
+        numerics: sim.params().clone(),
+        tank: case.tank.clone(),
+        theory: theory_numbers(&case.tank, sim.params().gravity),
+        post: Vec::new(),
+    };
+    // Post-processing hook of the script (keeps the other outputs when it fails).
+    let mut post_error = None;
+    if case.excitation.has_post() {
+        let data = crate::post::run_data(&summary, &cols.names, &history);
+        match case.excitation.post(&data) {
+            Ok(result) => {
+                summary.post = result.values.clone();
+                crate::post::write_post_outputs(out, &result)?;
+            }
+            Err(e) => post_error = Some(e),
+        }
+    }
+    slosh_io::write_ron(out.join("summary.ron"), &summary)?;
+    if opts.plots {
+        write_plots(out, &cols.names, &history, D)?;
+    }
+    if let Some(e) = failure {
+        return Err(e.context(format!(
+            "the run stopped at t = {:.4} s; the outputs written so far are in {}",
+            sim.time(),
+            out.display()
+        )));
+    }
+    if let Some(e) = post_error {
+        return Err(anyhow::Error::new(e).context(format!(
+            "post(run) failed; the run's other outputs are in {}",
+            out.display()
+        )));
+    }
+    if opts.verbose {
+        eprintln!(
+            "{}: {} steps in {:.1} s ({:.3e} particle-steps/s); max eta_left {:.4} m, max |base shear x| {:.1} {}, max roof p {:.1} Pa",
+            case.name,
+            steps,
+            wall_time,
+            summary.particle_steps_per_s,
+            summary.max_eta_left,
+            summary.max_abs_base_shear_x,
+            if D == 2 { "N/m" } else { "N" },
+            summary.max_roof_p
+        );
+    }
+    Ok(summary)
+}
+
+fn make_progress(opts: &RunOptions, duration: f64) -> Option<indicatif::ProgressBar> {
+    if !opts.progress || !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let pb = indicatif::ProgressBar::new((duration * 1000.0) as u64);
+    pb.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:40} t = {pos} / {len} ms  {msg}  ETA {eta}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    Some(pb)
+}
+
+fn write_frame<const D: usize>(frames: &mut FrameSeries, sim: &Simulation<D>, t: f64) -> Result<()> {
+    let fluid = sim.fluid();
+    let walls = sim.walls();
+    let pad = |p: &Vector<D>| {
+        let mut a = [0.0; 3];
+        a[..D].copy_from_slice(p.as_slice());
+        a
+    };
+    let points: Vec<[f64; 3]> = fluid
+        .position
+        .iter()
+        .chain(&walls.position)
+        .map(pad)
+        .collect();
+    let velocity: Vec<[f64; 3]> = fluid
+        .velocity
+        .iter()
+        .map(pad)
+        .chain(walls.position.iter().map(|_| [0.0; 3]))
+        .collect();
+    let pressure: Vec<f64> = fluid.pressure.iter().chain(&walls.pressure).copied().collect();
+    let density: Vec<f64> = fluid.density.iter().chain(&walls.density).copied().collect();
+    let kind: Vec<i32> = std::iter::repeat_n(0, fluid.position.len())
+        .chain(std::iter::repeat_n(1, walls.position.len()))
+        .collect();
+    let part: Vec<i32> = std::iter::repeat_n(-1, fluid.position.len())
+        .chain(walls.part.iter().map(|&p| p as i32))
+        .collect();
+    let id: Vec<i32> = fluid
+        .id
+        .iter()
+        .map(|&i| i as i32)
+        .chain((0..walls.position.len()).map(|w| w as i32))
+        .collect();
+    frames.write_frame(
+        t,
+        &points,
+        &[
+            PointArray::vector3("velocity", &velocity),
+            PointArray::scalar("pressure", &pressure),
+            PointArray::scalar("density", &density),
+            PointArray::int32("kind", &kind),
+            PointArray::int32("part", &part),
+            PointArray::int32("id", &id),
+        ],
+    )?;
+    Ok(())
+}
+
+fn write_plots(out: &Path, names: &[(String, String)], history: &[Vec<f64>], dim: usize) -> Result<()> {
+    let plots = out.join("plots");
+    std::fs::create_dir_all(&plots)?;
+    let find = |n: &str| names.iter().position(|(c, _)| c == n);
+    let t = &history[0];
+    let force_unit = if dim == 2 { "N/m" } else { "N" };
+    let plot = |file: &str, title: &str, ylabel: String, cols: &[&str]| -> Result<()> {
+        let series: Vec<Series> = cols
+            .iter()
+            .filter_map(|c| find(c).map(|i| Series::line(c.to_string(), t, &history[i])))
+            .collect();
+        if series.is_empty() {
+            return Ok(());
+        }
+        slosh_io::line_plot(
+            plots.join(file),
+            &PlotSpec::new(title, "time t [s]", &ylabel),
+            &series,
+        )?;
+        Ok(())
+    };
+    plot(
+        "eta",
+        "Free-surface elevation at the walls",
+        "elevation η [m]".into(),
+        &["eta_left", "eta_right"],
+    )?;
+    plot(
+        "base_shear",
+        "Base shear (fluid on walls and bottom)",
+        format!("base shear [{force_unit}]"),
+        &["base_shear_x", "base_shear_y"],
+    )?;
+    plot(
+        "roof_force",
+        "Upward force on the roof",
+        format!("roof force [{force_unit}]"),
+        &["roof_force_up"],
+    )?;
+    plot(
+        "roof_pressure",
+        "Largest roof pressure",
+        "pressure [Pa]".into(),
+        &["roof_p_max"],
+    )?;
+    plot(
+        "ground_accel",
+        "Ground acceleration",
+        "acceleration [m/s²]".into(),
+        &["accel_x"],
+    )?;
+    Ok(())
+}

@@ -1,0 +1,328 @@
+//! Loading a case script into a [`Case`]: parameters, tank, numerics, run control, and the
+//! script functions called during and after the run.
+
+use crate::engine::{build_engine, Declared, Globals, PlotRequest, Shared};
+use crate::error::ScriptError;
+use crate::params::{ParamDecl, ParamValue};
+use crate::spec::{numerics_from_map, GaugeSpec, RunSpec, TankSpec};
+use rhai::{CallFnOptions, Dynamic, Engine, Map, Scope, AST};
+use slosh_core::SphParams;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, RwLock};
+
+/// How to load a case.
+#[derive(Clone, Debug, Default)]
+pub struct CaseOptions {
+    /// `--set NAME=VALUE` overrides, in command-line order.
+    pub overrides: Vec<(String, ParamValue)>,
+}
+
+/// The script functions called during and after a run.
+pub struct Excitation {
+    engine: Engine,
+    ast: AST,
+    scope: Scope<'static>,
+    file: PathBuf,
+    has_ground_accel: bool,
+    has_post: bool,
+    shared: Shared,
+}
+
+/// Extra results of `fn post(run)`.
+#[derive(Debug, Default)]
+pub struct PostResult {
+    /// Scalars returned by `post` (name → value as text for non-numbers).
+    pub values: Vec<(String, ParamValue)>,
+    /// Tables to write as CSV: (file stem, header, rows).
+    pub tables: Vec<(String, Vec<String>, Vec<Vec<f64>>)>,
+    /// Line plots to draw.
+    pub plots: Vec<PlotRequest>,
+}
+
+impl Excitation {
+    /// True when the script defines `fn ground_accel(t)`.
+    pub fn has_ground_accel(&self) -> bool {
+        self.has_ground_accel
+    }
+
+    /// True when the script defines `fn post(run)`.
+    pub fn has_post(&self) -> bool {
+        self.has_post
+    }
+
+    /// Ground acceleration (m/s², components x, y, z; in 2D x and vertical) at time `t` (s)
+    /// since the excitation started. The script function may return one number (the x
+    /// component) or an array of 2 or 3 numbers. The AST is not re-run (`eval_ast(false)`).
+    pub fn ground_accel(&mut self, t: f64) -> Result<[f64; 3], ScriptError> {
+        if !self.has_ground_accel {
+            return Ok([0.0; 3]);
+        }
+        let options = CallFnOptions::new().eval_ast(false).rewind_scope(true);
+        let value: Dynamic = self
+            .engine
+            .call_fn_with_options(options, &mut self.scope, &self.ast, "ground_accel", (t,))
+            .map_err(|e| ScriptError::from_eval(&self.file, &e))?;
+        let bad = |what: String| {
+            ScriptError::case(
+                &self.file,
+                format!("ground_accel({t}) returned {what}; return a number (m/s² along x) or an array [ax, ay(, az)]"),
+            )
+        };
+        let mut out = [0.0; 3];
+        if let Some(x) = crate::spec::dynamic_to_f64(&value) {
+            out[0] = x;
+        } else if let Some(v) = crate::engine::dynamic_to_vec(&value) {
+            if v.is_empty() || v.len() > 3 {
+                return Err(bad(format!("an array of {} values", v.len())));
+            }
+            out[..v.len()].copy_from_slice(&v);
+        } else {
+            return Err(bad(format!("{value} ({})", value.type_name())));
+        }
+        if out.iter().any(|a| !a.is_finite()) {
+            return Err(ScriptError::case(
+                &self.file,
+                format!(
+                    "ground_accel({t}) returned a non-finite value {out:?}; the excitation \
+                     function must return finite accelerations (check divisions and records)"
+                ),
+            ));
+        }
+        Ok(out)
+    }
+
+    /// Runs `fn post(run)` with the run's results and collects what it returns and writes.
+    pub fn post(&mut self, data: &RunData) -> Result<PostResult, ScriptError> {
+        let mut result = PostResult::default();
+        if !self.has_post {
+            return Ok(result);
+        }
+        let run = data.to_map();
+        let options = CallFnOptions::new().eval_ast(false).rewind_scope(true);
+        let value: Dynamic = self
+            .engine
+            .call_fn_with_options(options, &mut self.scope, &self.ast, "post", (run,))
+            .map_err(|e| ScriptError::from_eval(&self.file, &e))?;
+        if !value.is_unit() {
+            let map = value.try_cast::<Map>().ok_or_else(|| {
+                ScriptError::case(&self.file, "post(run) must return a map of results (or nothing)")
+            })?;
+            for (k, v) in map {
+                let pv = ParamValue::from_dynamic(&v).unwrap_or(ParamValue::Str(v.to_string()));
+                result.values.push((k.to_string(), pv));
+            }
+        }
+        let mut d = self.shared.lock().expect("script state");
+        result.tables = std::mem::take(&mut d.tables);
+        result.plots = std::mem::take(&mut d.plots);
+        Ok(result)
+    }
+}
+
+/// What a run hands to `fn post(run)`: `run.summary.NAME` (numbers), `run.series.COLUMN`
+/// (arrays over the output rows), `run.params.NAME`, and `run.maps.NAME` (arrays of arrays,
+/// e.g. the roof pressure map: one array per output row).
+#[derive(Clone, Debug, Default)]
+pub struct RunData {
+    /// Scalar results of the run.
+    pub scalars: Vec<(String, f64)>,
+    /// Time series by column name.
+    pub series: Vec<(String, Vec<f64>)>,
+    /// Script parameters with the values used.
+    pub params: Vec<(String, ParamValue)>,
+    /// Two-dimensional results (rows of values).
+    pub maps: Vec<(String, Vec<Vec<f64>>)>,
+}
+
+impl RunData {
+    fn to_map(&self) -> Map {
+        let mut run = Map::new();
+        let mut summary = Map::new();
+        for (k, v) in &self.scalars {
+            summary.insert(k.as_str().into(), (*v).into());
+        }
+        let mut series = Map::new();
+        for (k, v) in &self.series {
+            let arr: rhai::Array = v.iter().map(|&x| Dynamic::from(x)).collect();
+            series.insert(k.as_str().into(), arr.into());
+        }
+        let mut params = Map::new();
+        for (k, v) in &self.params {
+            params.insert(k.as_str().into(), v.to_dynamic());
+        }
+        let mut maps = Map::new();
+        for (k, rows) in &self.maps {
+            let arr: rhai::Array = rows
+                .iter()
+                .map(|r| {
+                    let a: rhai::Array = r.iter().map(|&x| Dynamic::from(x)).collect();
+                    Dynamic::from(a)
+                })
+                .collect();
+            maps.insert(k.as_str().into(), arr.into());
+        }
+        run.insert("summary".into(), summary.into());
+        run.insert("series".into(), series.into());
+        run.insert("params".into(), params.into());
+        run.insert("maps".into(), maps.into());
+        run
+    }
+}
+
+/// A loaded case: everything needed to build and run the simulation.
+pub struct Case {
+    /// Case name (the script's file stem unless `case(#{name: ...})` says otherwise).
+    pub name: String,
+    /// The script file.
+    pub script: PathBuf,
+    /// Declared parameters with the values used.
+    pub params: Vec<ParamDecl>,
+    /// The tank.
+    pub tank: TankSpec,
+    /// Solver parameters.
+    pub sph: SphParams,
+    /// Scheme preset name.
+    pub scheme: String,
+    /// Lattice spacing dx (m).
+    pub dx: f64,
+    /// Run control.
+    pub run: RunSpec,
+    /// Extra wave gauges.
+    pub gauges: Vec<GaugeSpec>,
+    /// Script functions for the run.
+    pub excitation: Excitation,
+}
+
+impl Case {
+    /// Space dimension (2 or 3).
+    pub fn dim(&self) -> usize {
+        self.tank.dim()
+    }
+}
+
+/// Evaluates a script's top level and returns the declared parameters only
+/// (`slosh run CASE --list-params`).
+pub fn list_params(path: &Path) -> Result<Vec<ParamDecl>, ScriptError> {
+    let (_, declared, ..) = evaluate(path, &CaseOptions::default())?;
+    let d = declared.lock().expect("script state");
+    Ok(d.params.clone())
+}
+
+type Evaluated = (Engine, Shared, AST, Scope<'static>, Globals);
+
+fn evaluate(path: &Path, options: &CaseOptions) -> Result<Evaluated, ScriptError> {
+    let source = std::fs::read_to_string(path).map_err(|e| ScriptError::Io {
+        file: path.display().to_string(),
+        source: e,
+    })?;
+    let mut declared = Declared::default();
+    for (name, value) in &options.overrides {
+        declared.overrides.insert(name.clone(), value.clone());
+    }
+    let shared: Shared = Arc::new(Mutex::new(declared));
+    let globals: Globals = Arc::new(RwLock::new(Default::default()));
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let engine = build_engine(shared.clone(), globals.clone(), dir);
+    let ast = engine.compile(&source).map_err(|e| {
+        let text = e.0.to_string();
+        ScriptError::at(path, e.1, text)
+    })?;
+    let mut scope = Scope::new();
+    engine
+        .run_ast_with_scope(&mut scope, &ast)
+        .map_err(|e| ScriptError::from_eval(path, &e))?;
+    // Make the top-level variables visible to script functions.
+    {
+        let mut g = globals.write().expect("globals");
+        for (name, _constant, value) in scope.iter() {
+            g.insert(name.to_string(), value);
+        }
+    }
+    Ok((engine, shared, ast, scope, globals))
+}
+
+/// Loads a case script: evaluates its top level once (declaring parameters and the case),
+/// applies `--set` overrides, and keeps the compiled script for `ground_accel`/`post`.
+pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError> {
+    let (engine, shared, ast, _scope, _globals) = evaluate(path, options)?;
+    let mut d = shared.lock().expect("script state");
+    if !d.overrides.is_empty() {
+        let unknown: Vec<String> = d.overrides.keys().cloned().collect();
+        let known: Vec<String> = d
+            .params
+            .iter()
+            .map(|p| format!("{} = {}", p.name, p.default))
+            .collect();
+        return Err(ScriptError::case(
+            path,
+            format!(
+                "unknown parameter(s) for --set: {}. The script declares: {}",
+                unknown.join(", "),
+                if known.is_empty() {
+                    "(none)".to_string()
+                } else {
+                    known.join(", ")
+                }
+            ),
+        ));
+    }
+    let err = |m: String| ScriptError::case(path, m);
+    let tank_map = d.tank.take().ok_or_else(|| {
+        err("the script does not describe a tank: call tank(#{ shape: \"rect\", width: …, height: …, depth: … })".into())
+    })?;
+    let tank = TankSpec::from_map(&tank_map).map_err(err)?;
+    let numerics = d.numerics.take().unwrap_or_default();
+    let (sph, scheme, dx) = numerics_from_map(&numerics).map_err(err)?;
+    let run = match d.run.take() {
+        Some(m) => RunSpec::from_map(&m).map_err(err)?,
+        None => RunSpec::default(),
+    };
+    let mut name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_else(|| "case".into());
+    if let Some(case) = d.case.take() {
+        let mut r = crate::spec::MapReader::new("case", &case);
+        name = r.str_or("name", &name).map_err(err)?;
+        r.finish().map_err(err)?;
+    }
+    for g in &d.gauges {
+        if g.horizontal.len() + 1 != tank.dim() {
+            return Err(err(format!(
+                "gauge \"{}\" gives {} horizontal coordinate(s) for a {}D tank",
+                g.name,
+                g.horizontal.len(),
+                tank.dim()
+            )));
+        }
+    }
+    let has_fn = |name: &str, arity: usize| {
+        ast.iter_functions()
+            .any(|f| f.name == name && f.params.len() == arity)
+    };
+    let has_ground_accel = has_fn("ground_accel", 1);
+    let has_post = has_fn("post", 1);
+    let params = d.params.clone();
+    let gauges = d.gauges.clone();
+    drop(d);
+    Ok(Case {
+        name,
+        script: path.to_path_buf(),
+        params,
+        tank,
+        sph,
+        scheme,
+        dx,
+        run,
+        gauges,
+        excitation: Excitation {
+            engine,
+            ast,
+            scope: Scope::new(),
+            file: path.to_path_buf(),
+            has_ground_accel,
+            has_post,
+            shared,
+        },
+    })
+}

@@ -1,0 +1,290 @@
+//! The sandboxed Rhai engine and the host functions a case script may call.
+
+use crate::params::{ParamDecl, ParamValue};
+use crate::spec::{dynamic_to_f64, GaugeSpec};
+use rhai::{Dynamic, Engine, EvalAltResult, Map, Position};
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Component, Path, PathBuf};
+use std::sync::{Arc, Mutex, RwLock};
+
+/// Everything the script declared through host functions.
+#[derive(Default)]
+pub(crate) struct Declared {
+    /// `--set` overrides not yet claimed by a `param` call.
+    pub overrides: BTreeMap<String, ParamValue>,
+    /// Declared parameters in declaration order.
+    pub params: Vec<ParamDecl>,
+    /// `case(#{...})` map.
+    pub case: Option<Map>,
+    /// `tank(#{...})` map.
+    pub tank: Option<Map>,
+    /// `numerics(#{...})` map.
+    pub numerics: Option<Map>,
+    /// `run(#{...})` map.
+    pub run: Option<Map>,
+    /// Extra wave gauges.
+    pub gauges: Vec<GaugeSpec>,
+    /// Extra files written by `post` (name → rows).
+    pub tables: Vec<(String, Vec<String>, Vec<Vec<f64>>)>,
+    /// Line plots requested by `post`.
+    pub plots: Vec<PlotRequest>,
+}
+
+/// A line plot asked for by a script (`line_plot(name, title, xlabel, ylabel, xs, ys)`).
+#[derive(Clone, Debug)]
+pub struct PlotRequest {
+    /// File stem.
+    pub name: String,
+    /// Title.
+    pub title: String,
+    /// X-axis label with unit.
+    pub x_label: String,
+    /// Y-axis label with unit.
+    pub y_label: String,
+    /// Abscissae.
+    pub xs: Vec<f64>,
+    /// Ordinates.
+    pub ys: Vec<f64>,
+}
+
+pub(crate) type Shared = Arc<Mutex<Declared>>;
+pub(crate) type Globals = Arc<RwLock<HashMap<String, Dynamic>>>;
+
+fn runtime_error(message: impl Into<String>) -> Box<EvalAltResult> {
+    Box::new(EvalAltResult::ErrorRuntime(
+        message.into().into(),
+        Position::NONE,
+    ))
+}
+
+/// Builds the sandboxed engine with the host functions bound to `shared`, and a variable
+/// resolver that lets script functions read the script's top-level variables (`globals`).
+pub(crate) fn build_engine(shared: Shared, globals: Globals, script_dir: PathBuf) -> Engine {
+    let mut engine = Engine::new();
+    // Sandbox: limits against runaway scripts; no eval; modules are compiled out.
+    engine.set_max_operations(20_000_000);
+    engine.set_max_call_levels(64);
+    engine.set_max_expr_depths(128, 64);
+    engine.set_max_string_size(1 << 20);
+    engine.set_max_array_size(10_000_000);
+    engine.set_max_map_size(100_000);
+    engine.disable_symbol("eval");
+    engine.on_print(|text| eprintln!("[script] {text}"));
+    engine.on_debug(|text, _source, pos| eprintln!("[script {pos}] {text}"));
+
+    // Script functions are pure in Rhai; this resolver lets them read the top-level
+    // variables of the script (parameters, derived constants) after it has run.
+    let g = globals.clone();
+    // `on_var` is marked volatile (not deprecated) by Rhai; it is the documented resolver hook.
+    #[allow(deprecated)]
+    engine.on_var(move |name, _index, context| {
+        if context.scope().contains(name) {
+            return Ok(None);
+        }
+        Ok(g.read().ok().and_then(|m| m.get(name).cloned()))
+    });
+
+    let s = shared.clone();
+    engine.register_fn(
+        "param",
+        move |name: &str, default: Dynamic| -> Result<Dynamic, Box<EvalAltResult>> {
+            let mut d = s.lock().map_err(|_| runtime_error("internal lock"))?;
+            if let Some(p) = d.params.iter().find(|p| p.name == name) {
+                return Ok(p.value.to_dynamic());
+            }
+            let default = ParamValue::from_dynamic(&default).ok_or_else(|| {
+                runtime_error(format!(
+                    "param(\"{name}\", …): the default must be a number, true/false or a string"
+                ))
+            })?;
+            let (value, overridden) = match d.overrides.remove(name) {
+                Some(v) => (
+                    v.coerce_to(&default)
+                        .map_err(|e| runtime_error(format!("--set {name}: {e}")))?,
+                    true,
+                ),
+                None => (default.clone(), false),
+            };
+            d.params.push(ParamDecl {
+                name: name.to_string(),
+                default,
+                value: value.clone(),
+                overridden,
+            });
+            Ok(value.to_dynamic())
+        },
+    );
+    let s = shared.clone();
+    engine.register_fn(
+        "param",
+        move |name: &str| -> Result<Dynamic, Box<EvalAltResult>> {
+            let d = s.lock().map_err(|_| runtime_error("internal lock"))?;
+            d.params
+                .iter()
+                .find(|p| p.name == name)
+                .map(|p| p.value.to_dynamic())
+                .ok_or_else(|| {
+                    runtime_error(format!(
+                        "parameter \"{name}\" is not declared; declare it with param(\"{name}\", default)"
+                    ))
+                })
+        },
+    );
+    for key in ["case", "tank", "numerics", "run"] {
+        let s = shared.clone();
+        engine.register_fn(key, move |map: Map| -> Result<(), Box<EvalAltResult>> {
+            let mut d = s.lock().map_err(|_| runtime_error("internal lock"))?;
+            let slot = match key {
+                "case" => &mut d.case,
+                "tank" => &mut d.tank,
+                "numerics" => &mut d.numerics,
+                _ => &mut d.run,
+            };
+            if slot.is_some() {
+                return Err(runtime_error(format!("{key}(…) is called twice")));
+            }
+            *slot = Some(map);
+            Ok(())
+        });
+    }
+    let s = shared.clone();
+    engine.register_fn(
+        "gauge",
+        move |name: &str, x: Dynamic| -> Result<(), Box<EvalAltResult>> {
+            let x = dynamic_to_f64(&x).ok_or_else(|| runtime_error("gauge: x must be a number"))?;
+            add_gauge(&s, name, vec![x])
+        },
+    );
+    let s = shared.clone();
+    engine.register_fn(
+        "gauge",
+        move |name: &str, x: Dynamic, y: Dynamic| -> Result<(), Box<EvalAltResult>> {
+            let (x, y) = (dynamic_to_f64(&x), dynamic_to_f64(&y));
+            match (x, y) {
+                (Some(x), Some(y)) => add_gauge(&s, name, vec![x, y]),
+                _ => Err(runtime_error("gauge: x and y must be numbers")),
+            }
+        },
+    );
+    // Post-processing output: extra CSV tables and line plots.
+    let s = shared.clone();
+    engine.register_fn(
+        "write_table",
+        move |name: &str, columns: Map| -> Result<(), Box<EvalAltResult>> {
+            let mut header = Vec::new();
+            let mut cols: Vec<Vec<f64>> = Vec::new();
+            for (k, v) in columns.iter() {
+                header.push(k.to_string());
+                cols.push(dynamic_to_vec(v).ok_or_else(|| {
+                    runtime_error(format!("write_table: column '{k}' must be an array of numbers"))
+                })?);
+            }
+            let n = cols.first().map(|c| c.len()).unwrap_or(0);
+            if cols.iter().any(|c| c.len() != n) {
+                return Err(runtime_error("write_table: all columns must have the same length"));
+            }
+            check_file_stem(name)?;
+            let rows = (0..n).map(|i| cols.iter().map(|c| c[i]).collect()).collect();
+            s.lock()
+                .map_err(|_| runtime_error("internal lock"))?
+                .tables
+                .push((name.to_string(), header, rows));
+            Ok(())
+        },
+    );
+    let s = shared;
+    engine.register_fn(
+        "line_plot",
+        move |name: &str,
+              title: &str,
+              x_label: &str,
+              y_label: &str,
+              xs: Dynamic,
+              ys: Dynamic|
+              -> Result<(), Box<EvalAltResult>> {
+            let xs = dynamic_to_vec(&xs).ok_or_else(|| runtime_error("line_plot: xs must be an array of numbers"))?;
+            let ys = dynamic_to_vec(&ys).ok_or_else(|| runtime_error("line_plot: ys must be an array of numbers"))?;
+            if xs.len() != ys.len() {
+                return Err(runtime_error("line_plot: xs and ys must have the same length"));
+            }
+            check_file_stem(name)?;
+            s.lock()
+                .map_err(|_| runtime_error("internal lock"))?
+                .plots
+                .push(PlotRequest {
+                    name: name.into(),
+                    title: title.into(),
+                    x_label: x_label.into(),
+                    y_label: y_label.into(),
+                    xs,
+                    ys,
+                });
+            Ok(())
+        },
+    );
+    // File access for later host functions: relative to the script's folder only.
+    let _ = script_dir;
+    engine
+}
+
+fn add_gauge(s: &Shared, name: &str, horizontal: Vec<f64>) -> Result<(), Box<EvalAltResult>> {
+    if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+        return Err(runtime_error(format!(
+            "gauge name \"{name}\" must be letters, digits or _ (it becomes the column eta_{name})"
+        )));
+    }
+    let mut d = s.lock().map_err(|_| runtime_error("internal lock"))?;
+    if d.gauges.iter().any(|g| g.name == name) {
+        return Err(runtime_error(format!("gauge \"{name}\" is declared twice")));
+    }
+    d.gauges.push(GaugeSpec {
+        name: name.to_string(),
+        horizontal,
+    });
+    Ok(())
+}
+
+fn check_file_stem(name: &str) -> Result<(), Box<EvalAltResult>> {
+    if name.is_empty()
+        || !name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+    {
+        return Err(runtime_error(format!(
+            "output name \"{name}\" must be letters, digits, _ or - (no folders)"
+        )));
+    }
+    Ok(())
+}
+
+/// An array of numbers as Vec<f64>.
+pub(crate) fn dynamic_to_vec(d: &Dynamic) -> Option<Vec<f64>> {
+    let arr = d.read_lock::<rhai::Array>()?;
+    arr.iter().map(dynamic_to_f64).collect()
+}
+
+/// Resolves a path given by a script relative to the script's folder; refuses absolute
+/// paths and paths that leave the folder.
+pub fn resolve_script_path(script_dir: &Path, relative: &str) -> Result<PathBuf, String> {
+    let rel = Path::new(relative);
+    if rel.is_absolute() {
+        return Err(format!(
+            "\"{relative}\": scripts may only read files relative to their own folder"
+        ));
+    }
+    let mut depth: i64 = 0;
+    for c in rel.components() {
+        match c {
+            Component::ParentDir => depth -= 1,
+            Component::Normal(_) => depth += 1,
+            Component::CurDir => {}
+            _ => return Err(format!("\"{relative}\": not a plain relative path")),
+        }
+        if depth < 0 {
+            return Err(format!(
+                "\"{relative}\" leaves the script's folder; put the file next to the script or below it"
+            ));
+        }
+    }
+    Ok(script_dir.join(rel))
+}

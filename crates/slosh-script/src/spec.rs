@@ -1,0 +1,370 @@
+//! What a case script declares: tank, numerics, run control, gauges; read from Rhai maps.
+
+use rhai::{Dynamic, Map};
+use serde::Serialize;
+use slosh_core::{KernelKind, NeighbourBackend, SphParams, WallPressureMethod};
+use std::collections::BTreeSet;
+
+/// Reads the keys of a Rhai map, remembering which were used so that unknown keys (typos)
+/// can be reported.
+pub(crate) struct MapReader<'a> {
+    what: &'static str,
+    map: &'a Map,
+    used: BTreeSet<String>,
+}
+
+impl<'a> MapReader<'a> {
+    pub(crate) fn new(what: &'static str, map: &'a Map) -> Self {
+        MapReader {
+            what,
+            map,
+            used: BTreeSet::new(),
+        }
+    }
+
+    fn get(&mut self, key: &str) -> Option<&'a Dynamic> {
+        self.used.insert(key.to_string());
+        self.map.get(key)
+    }
+
+    pub(crate) fn f64_or(&mut self, key: &str, default: f64) -> Result<f64, String> {
+        match self.get(key) {
+            None => Ok(default),
+            Some(d) => dynamic_to_f64(d)
+                .ok_or_else(|| format!("{}: '{key}' must be a number (got {d})", self.what)),
+        }
+    }
+
+    pub(crate) fn opt_f64(&mut self, key: &str) -> Result<Option<f64>, String> {
+        match self.get(key) {
+            None => Ok(None),
+            Some(d) => dynamic_to_f64(d)
+                .map(Some)
+                .ok_or_else(|| format!("{}: '{key}' must be a number (got {d})", self.what)),
+        }
+    }
+
+    pub(crate) fn bool_or(&mut self, key: &str, default: bool) -> Result<bool, String> {
+        match self.get(key) {
+            None => Ok(default),
+            Some(d) => d
+                .as_bool()
+                .map_err(|_| format!("{}: '{key}' must be true or false (got {d})", self.what)),
+        }
+    }
+
+    pub(crate) fn str_or(&mut self, key: &str, default: &str) -> Result<String, String> {
+        match self.get(key) {
+            None => Ok(default.to_string()),
+            Some(d) if d.is_string() => Ok(d.clone().into_string().unwrap_or_default()),
+            Some(d) => Err(format!("{}: '{key}' must be a string (got {d})", self.what)),
+        }
+    }
+
+    pub(crate) fn usize_or(&mut self, key: &str, default: usize) -> Result<usize, String> {
+        match self.get(key) {
+            None => Ok(default),
+            Some(d) => match dynamic_to_f64(d) {
+                Some(x) if x >= 0.0 && x.fract() == 0.0 => Ok(x as usize),
+                _ => Err(format!(
+                    "{}: '{key}' must be a whole number ≥ 0 (got {d})",
+                    self.what
+                )),
+            },
+        }
+    }
+
+    /// Error when the map holds keys that were never asked for.
+    pub(crate) fn finish(self) -> Result<(), String> {
+        let unknown: Vec<&str> = self
+            .map
+            .keys()
+            .map(|k| k.as_str())
+            .filter(|k| !self.used.contains(*k))
+            .collect();
+        if unknown.is_empty() {
+            Ok(())
+        } else {
+            let known: Vec<&str> = self.used.iter().map(|s| s.as_str()).collect();
+            Err(format!(
+                "{}: unknown key(s) {}; known keys: {}",
+                self.what,
+                unknown.join(", "),
+                known.join(", ")
+            ))
+        }
+    }
+}
+
+pub(crate) fn dynamic_to_f64(d: &Dynamic) -> Option<f64> {
+    d.as_float().ok().or_else(|| d.as_int().ok().map(|i| i as f64))
+}
+
+/// The tank a script describes.
+#[derive(Clone, Debug, Serialize)]
+pub enum TankSpec {
+    /// 2D rectangular tank section (per metre of depth).
+    Rect {
+        /// Inner width 2l (m).
+        width: f64,
+        /// Tank (shell) height (m).
+        height: f64,
+        /// Still liquid depth H (m).
+        depth: f64,
+        /// Flat roof at `height` (closed tank) or open.
+        roof: bool,
+        /// `"offset"` or `"paper"`.
+        layout: String,
+        /// Initial free-surface elevation at the left wall (m).
+        tilt: f64,
+    },
+    /// 3D upright cylinder, axis vertical through x = y = 0.
+    Cylinder {
+        /// Inner radius R (m).
+        radius: f64,
+        /// Shell height (m).
+        height: f64,
+        /// Still liquid depth (m).
+        depth: f64,
+        /// `"none"`, `"flat"`, `"cone"`, `"dome"`, or a mesh path.
+        roof: String,
+        /// Rise of a cone apex or dome crown above the shell top (m).
+        roof_rise: f64,
+        /// Initial free-surface elevation at x = −R (m).
+        tilt: f64,
+    },
+    /// 3D rectangular box tank.
+    Box {
+        /// Inner length along x (m).
+        length: f64,
+        /// Inner breadth along y (m).
+        breadth: f64,
+        /// Height (m).
+        height: f64,
+        /// Still liquid depth (m).
+        depth: f64,
+        /// Flat roof at `height`.
+        roof: bool,
+        /// Initial free-surface elevation at x = 0 (m).
+        tilt: f64,
+    },
+}
+
+impl TankSpec {
+    /// Space dimension of the tank (2 or 3).
+    pub fn dim(&self) -> usize {
+        match self {
+            TankSpec::Rect { .. } => 2,
+            _ => 3,
+        }
+    }
+
+    pub(crate) fn from_map(map: &Map) -> Result<TankSpec, String> {
+        let mut r = MapReader::new("tank", map);
+        let shape = r.str_or("shape", "rect")?;
+        let spec = match shape.as_str() {
+            "rect" | "rectangle" => TankSpec::Rect {
+                width: r.f64_or("width", 1.0)?,
+                height: r.f64_or("height", 1.0)?,
+                depth: r.f64_or("depth", 0.5)?,
+                roof: r.bool_or("roof", true)?,
+                layout: r.str_or("layout", "offset")?,
+                tilt: r.f64_or("tilt", 0.0)?,
+            },
+            "cylinder" => TankSpec::Cylinder {
+                radius: r.f64_or("radius", 0.5)?,
+                height: r.f64_or("height", 0.6)?,
+                depth: r.f64_or("depth", 0.5)?,
+                roof: r.str_or("roof", "flat")?,
+                roof_rise: r.f64_or("roof_rise", 0.1)?,
+                tilt: r.f64_or("tilt", 0.0)?,
+            },
+            "box" => TankSpec::Box {
+                length: r.f64_or("length", 1.0)?,
+                breadth: r.f64_or("breadth", 0.1)?,
+                height: r.f64_or("height", 1.0)?,
+                depth: r.f64_or("depth", 0.5)?,
+                roof: r.bool_or("roof", true)?,
+                tilt: r.f64_or("tilt", 0.0)?,
+            },
+            other => {
+                return Err(format!(
+                    "tank: unknown shape \"{other}\" (use \"rect\", \"cylinder\" or \"box\")"
+                ))
+            }
+        };
+        r.finish()?;
+        Ok(spec)
+    }
+}
+
+/// Run control: times and output intervals.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunSpec {
+    /// Settling time with gravity only before the excitation starts (s).
+    pub settle: f64,
+    /// Total simulated time, settling included (s).
+    pub duration: f64,
+    /// Interval of the rows of `series.csv` (s).
+    pub output_interval: f64,
+    /// Interval of particle frames (s); 0 = no frames.
+    pub frame_interval: f64,
+}
+
+impl RunSpec {
+    pub(crate) fn from_map(map: &Map) -> Result<RunSpec, String> {
+        let mut r = MapReader::new("run", map);
+        let spec = RunSpec {
+            settle: r.f64_or("settle", 2.0)?,
+            duration: r.f64_or("duration", 12.0)?,
+            output_interval: r.f64_or("output_interval", 0.01)?,
+            frame_interval: r.f64_or("frame_interval", 0.0)?,
+        };
+        r.finish()?;
+        if !(spec.duration.is_finite() && spec.duration > 0.0) {
+            return Err(format!("run: duration must be > 0 s (got {})", spec.duration));
+        }
+        if !(spec.settle.is_finite() && spec.settle >= 0.0) {
+            return Err(format!("run: settle must be ≥ 0 s (got {})", spec.settle));
+        }
+        if !(spec.output_interval.is_finite() && spec.output_interval > 0.0) {
+            return Err(format!(
+                "run: output_interval must be > 0 s (got {})",
+                spec.output_interval
+            ));
+        }
+        if !(spec.frame_interval.is_finite() && spec.frame_interval >= 0.0) {
+            return Err(format!(
+                "run: frame_interval must be ≥ 0 s (got {})",
+                spec.frame_interval
+            ));
+        }
+        Ok(spec)
+    }
+}
+
+impl Default for RunSpec {
+    fn default() -> Self {
+        RunSpec {
+            settle: 2.0,
+            duration: 12.0,
+            output_interval: 0.01,
+            frame_interval: 0.0,
+        }
+    }
+}
+
+/// An extra wave gauge: the free-surface elevation on a vertical line.
+#[derive(Clone, Debug, Serialize)]
+pub struct GaugeSpec {
+    /// Column name in `series.csv` (`eta_<name>`).
+    pub name: String,
+    /// Horizontal coordinates (x in 2D; x, y in 3D), m.
+    pub horizontal: Vec<f64>,
+}
+
+/// Reads `numerics(#{...})` into solver parameters, starting from the scheme preset.
+/// Returns the parameters and the scheme name.
+pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, f64), String> {
+    let mut r = MapReader::new("numerics", map);
+    let scheme = r.str_or("scheme", "paper")?;
+    let mut p = match scheme.as_str() {
+        "paper" => SphParams::default(),
+        "modern" => modern_preset(),
+        other => {
+            return Err(format!(
+                "numerics: unknown scheme \"{other}\" (use \"paper\" or \"modern\")"
+            ))
+        }
+    };
+    let dx = r.f64_or("dx", 0.02)?;
+    p.smoothing_ratio = r.f64_or("h_over_dx", p.smoothing_ratio)?;
+    p.kernel = match r.str_or("kernel", kernel_name(p.kernel))?.as_str() {
+        "cubic_spline" | "cubic" => KernelKind::CubicSpline,
+        "wendland_c2" | "wendland" => KernelKind::WendlandC2,
+        other => {
+            return Err(format!(
+                "numerics: unknown kernel \"{other}\" (use \"cubic_spline\" or \"wendland_c2\")"
+            ))
+        }
+    };
+    p.rest_density = r.f64_or("rest_density", p.rest_density)?;
+    p.dynamic_viscosity = r.f64_or("viscosity", p.dynamic_viscosity)?;
+    p.eos_stiffness = r.f64_or("eos_b", p.eos_stiffness)?;
+    p.eos_gamma = r.f64_or("eos_gamma", p.eos_gamma)?;
+    p.av_alpha = r.f64_or("av_alpha", p.av_alpha)?;
+    p.av_beta = r.f64_or("av_beta", p.av_beta)?;
+    p.av_eta = r.f64_or("av_eta", p.av_eta)?;
+    if let Some(c) = r.opt_f64("av_sound_speed")? {
+        p.av_sound_speed = if c > 0.0 { Some(c) } else { None };
+    }
+    p.free_surface_threshold = r.f64_or("free_surface_threshold", p.free_surface_threshold)?;
+    p.clamp_negative_pressure = r.bool_or("clamp_negative_pressure", p.clamp_negative_pressure)?;
+    p.gravity = r.f64_or("gravity", p.gravity)?;
+    p.cfl_number = r.f64_or("cfl_number", p.cfl_number)?;
+    let dt = r.f64_or("dt", p.fixed_dt.unwrap_or(0.0))?;
+    p.fixed_dt = if dt > 0.0 { Some(dt) } else { None };
+    if dt < 0.0 || !dt.is_finite() {
+        return Err(format!(
+            "numerics: dt must be ≥ 0 s (0 = CFL-variable), got {dt}"
+        ));
+    }
+    p.allow_unstable_dt = r.bool_or("allow_unstable_dt", p.allow_unstable_dt)?;
+    p.neighbour_backend = match r.str_or("neighbour_search", "grid")?.as_str() {
+        "grid" | "cell_grid" => NeighbourBackend::CellGrid,
+        "kdtree" | "kd_tree" => NeighbourBackend::KdTree,
+        other => {
+            return Err(format!(
+                "numerics: unknown neighbour_search \"{other}\" (use \"grid\" or \"kdtree\")"
+            ))
+        }
+    };
+    p.reorder_interval = r.usize_or("reorder_interval", p.reorder_interval)?;
+    p.wall_pressure = match r
+        .str_or("wall_pressure", wall_pressure_name(p.wall_pressure))?
+        .as_str()
+    {
+        "nearest_fluid" => WallPressureMethod::NearestFluid,
+        "kernel_extrapolation" => WallPressureMethod::KernelExtrapolation,
+        "wall_particle" => WallPressureMethod::WallParticle,
+        other => {
+            return Err(format!(
+                "numerics: unknown wall_pressure \"{other}\" (use \"nearest_fluid\", \
+                 \"kernel_extrapolation\" or \"wall_particle\")"
+            ))
+        }
+    };
+    p.pressure_smoothing_eps = r.f64_or("smoothing_eps", p.pressure_smoothing_eps)?;
+    p.smoothing_steps = r.usize_or("smoothing_steps", p.smoothing_steps)?;
+    r.finish()?;
+    Ok((p, scheme, dx))
+}
+
+/// The "modern" preset: the paper's equations with the parts of today's engineering codes
+/// that this build offers (Wendland C2 kernel, artificial viscosity at the EOS sound speed,
+/// wall loads from the Shepard kernel extrapolation with hydrostatic correction).
+pub fn modern_preset() -> SphParams {
+    let base = SphParams::default();
+    SphParams {
+        kernel: KernelKind::WendlandC2,
+        av_alpha: 0.02,
+        av_sound_speed: Some(base.eos_sound_speed()),
+        wall_pressure: WallPressureMethod::KernelExtrapolation,
+        ..base
+    }
+}
+
+fn kernel_name(k: KernelKind) -> &'static str {
+    match k {
+        KernelKind::CubicSpline => "cubic_spline",
+        KernelKind::WendlandC2 => "wendland_c2",
+    }
+}
+
+fn wall_pressure_name(m: WallPressureMethod) -> &'static str {
+    match m {
+        WallPressureMethod::NearestFluid => "nearest_fluid",
+        WallPressureMethod::KernelExtrapolation => "kernel_extrapolation",
+        WallPressureMethod::WallParticle => "wall_particle",
+    }
+}
