@@ -2,7 +2,9 @@
 
 use anyhow::{bail, Context, Result};
 use slosh_core::ParticleSetup;
-use slosh_geometry::{Layout, RectTank2};
+use slosh_geometry::{BoxTank, CylinderTank, Layout, RectTank2, Roof};
+use slosh_script::resolve_script_path;
+use std::path::Path;
 use slosh_script::TankSpec;
 
 /// Builds the 2D particles of a 2D tank.
@@ -29,8 +31,44 @@ pub fn build_2d(tank: &TankSpec, dx: f64) -> Result<ParticleSetup<2>> {
     }
 }
 
-/// Builds the 3D particles of a 3D tank.
-pub fn build_3d(tank: &TankSpec, dx: f64, script_dir: &std::path::Path) -> Result<ParticleSetup<3>> {
-    let _ = (tank, dx, script_dir);
-    bail!("3D tanks are not available in this build yet (cylinder and box builders are being added)")
+/// Builds the 3D particles of a 3D tank. A roof mesh path is read relative to the script's
+/// folder (and may not leave it).
+pub fn build_3d(tank: &TankSpec, dx: f64, script_dir: &Path) -> Result<ParticleSetup<3>> {
+    match tank {
+        TankSpec::Cylinder {
+            radius,
+            height,
+            depth,
+            roof,
+            roof_rise,
+            tilt,
+        } => {
+            let mut roof = Roof::from_name(roof, *roof_rise).with_context(|| {
+                format!(
+                    "unknown roof \"{roof}\": use \"none\", \"flat\", \"cone\", \"dome\" or a \
+                     mesh file (.obj/.stl) next to the script"
+                )
+            })?;
+            if let Roof::Mesh(path) = &roof {
+                let rel = path.to_string_lossy().to_string();
+                let resolved = resolve_script_path(script_dir, &rel).map_err(anyhow::Error::msg)?;
+                roof = Roof::Mesh(resolved);
+            }
+            Ok(CylinderTank::new(*radius, *height, *depth, roof)
+                .with_initial_tilt(*tilt)
+                .build(dx)?)
+        }
+        TankSpec::Box {
+            length,
+            breadth,
+            height,
+            depth,
+            roof,
+            tilt,
+        } => Ok(BoxTank::new(*length, *breadth, *height, *depth)
+            .with_roof(*roof)
+            .with_initial_tilt(*tilt)
+            .build(dx)?),
+        TankSpec::Rect { .. } => bail!("internal: a 2D tank was handed to the 3D builder"),
+    }
 }

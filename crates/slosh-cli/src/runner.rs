@@ -102,6 +102,9 @@ pub struct Summary {
     pub numerics: SphParams,
     /// The tank.
     pub tank: TankSpec,
+    /// Still-water level the elevations are measured from (m): the fill level lowered by the
+    /// EOS compression of the liquid under its own weight.
+    pub still_level: f64,
     /// Closed-form references for this tank.
     pub theory: TheoryNumbers,
     /// Results of the script's `post(run)`.
@@ -255,7 +258,7 @@ fn run_loop<const D: usize>(
         None
     };
     let (left, right) = wall_gauges(&sim);
-    let fill = sim.fill_level();
+    let fill = sim.still_level();
     let roof_part = sim.part_names().iter().position(|n| n == "roof");
     let wall_part = sim.part_names().iter().position(|n| n == "wall");
     let bottom_part = sim.part_names().iter().position(|n| n == "bottom");
@@ -471,6 +474,7 @@ fn run_loop<const D: usize>(
             .collect(),
         numerics: sim.params().clone(),
         tank: case.tank.clone(),
+        still_level: sim.still_level(),
         theory: theory_numbers(&case.tank, sim.params().gravity),
         post: Vec::new(),
     };

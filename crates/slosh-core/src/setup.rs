@@ -8,6 +8,16 @@ pub trait TankInterior<const D: usize>: Send + Sync {
     /// True when `point` (m) lies inside the liquid-holding interior of the tank
     /// (open tanks: the interior extended upwards without limit).
     fn contains(&self, point: &SVector<f64, D>) -> bool;
+
+    /// Distance (m) from `point` to the interior: 0 inside, else the distance to the nearest
+    /// interior point. The default knows only inside (0) and outside (∞).
+    fn distance_outside(&self, point: &SVector<f64, D>) -> f64 {
+        if self.contains(point) {
+            0.0
+        } else {
+            f64::INFINITY
+        }
+    }
 }
 
 /// Name of the part index `0`: the tank floor.

@@ -346,7 +346,7 @@ impl<const D: usize> Simulation<D> {
             });
         }
         let reorder = self.params.reorder_interval;
-        if reorder > 0 && self.step > 0 && self.step % reorder as u64 == 0 {
+        if reorder > 0 && self.step > 0 && self.step.is_multiple_of(reorder as u64) {
             self.sort_by_cell();
         }
         if self.step > 0 {
@@ -597,6 +597,27 @@ impl<const D: usize> Simulation<D> {
     pub fn fill_level(&self) -> f64 {
         self.fill_level
     }
+    /// Height (m) of the free surface of this liquid at rest: the fill level lowered by the
+    /// compression of the Tait EOS under its own weight. With bottom pressure p_b = ρ0 g H
+    /// (the weight of the column) and dz = dp/(ρ g), ρ = ρ0 (1 + p/B)^(1/γ):
+    /// H' = B γ / (ρ0 g (γ − 1)) [(1 + p_b/B)^((γ−1)/γ) − 1]  (≈ H − ρ0 g H²/(2γB)).
+    /// Wave elevations are measured from this level. Exact for walls that are vertical over
+    /// the liquid depth.
+    pub fn still_level(&self) -> f64 {
+        let floor = self.interior_min[D - 1];
+        let depth = self.fill_level - floor;
+        let (b, gamma, rho0, g) = (
+            self.params.eos_stiffness,
+            self.params.eos_gamma,
+            self.params.rest_density,
+            self.params.gravity,
+        );
+        let p_bottom = rho0 * g * depth;
+        let compressed = b * gamma / (rho0 * g * (gamma - 1.0))
+            * ((1.0 + p_bottom / b).powf((gamma - 1.0) / gamma) - 1.0);
+        floor + compressed
+    }
+
     /// Bounding box of the tank interior (m).
     pub fn interior_bounds(&self) -> (Vector<D>, Vector<D>) {
         (self.interior_min, self.interior_max)
@@ -606,13 +627,16 @@ impl<const D: usize> Simulation<D> {
         &self.loads
     }
 
-    /// Number of fluid particles inside the tank interior.
+    /// Number of fluid particles inside the tank: within one lattice spacing of the interior
+    /// (a particle pressed against a wall may sit a fraction of dx past the inner face, where
+    /// the first wall layer stands; one past that layer has leaked).
     pub fn fluid_inside(&self) -> usize {
+        let margin = self.spacing;
         self.fluid
             .position
             .par_iter()
             .with_min_len(PAR_CHUNK)
-            .filter(|p| self.interior.contains(p))
+            .filter(|p| self.interior.contains(p) || self.interior.distance_outside(p) <= margin)
             .count()
     }
 

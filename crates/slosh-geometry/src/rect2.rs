@@ -385,4 +385,16 @@ impl TankInterior<2> for RectInterior2 {
         self.cuboid
             .contains_local_point(PVec2::new(point.x, y) - self.centre)
     }
+
+    fn distance_outside(&self, point: &Vector2<f64>) -> f64 {
+        let mut y = point.y;
+        if let Some(top) = self.open_top {
+            y = y.min(top);
+        }
+        let local = PVec2::new(point.x, y) - self.centre;
+        let he = self.cuboid.half_extents;
+        let dx = (local.x.abs() - he.x).max(0.0);
+        let dy = (local.y.abs() - he.y).max(0.0);
+        (dx * dx + dy * dy).sqrt()
+    }
 }

@@ -879,6 +879,23 @@ impl TankInterior<3> for TankRegion3 {
         };
         in_tank && !self.solids.iter().any(|s| s.contains(p))
     }
+
+    /// Distance to the tank surface mesh for points outside the tank; points inside an
+    /// internal solid count as far outside.
+    fn distance_outside(&self, p: &Vector3<f64>) -> f64 {
+        if self.contains(p) {
+            return 0.0;
+        }
+        if self.solids.iter().any(|s| s.contains(p)) {
+            return f64::INFINITY;
+        }
+        let z = match self.open_top {
+            Some(top) => p.z.min(top),
+            None => p.z,
+        };
+        self.mesh
+            .distance_to_local_point(PVec3::new(p.x, p.y, z), true)
+    }
 }
 
 /// What the area sampling of one surface triangle produced.

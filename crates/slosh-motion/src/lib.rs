@@ -11,7 +11,7 @@
 //!   (Nigam–Jennings) solution of the damped oscillator.
 //!
 //! Units are SI throughout (s, m, m/s²) unless a name says otherwise. Records in g are
-//! converted with [`STANDARD_GRAVITY_M_S2`] = 9.80665 m/s².
+//! converted with [`GRAVITY_M_S2`] = 9.81 m/s², the g used throughout slosh.
 //!
 //! ```
 //! use slosh_motion::{Motion, Record, Sine};
@@ -39,7 +39,7 @@ pub use readers::{
     parse_at2, parse_knet, parse_plain_text, read_at2, read_knet, read_plain_text, read_record,
     sha256_hex, PlainTextOptions,
 };
-pub use record::{AccelUnit, Record, RecordFormat, RecordMeta, STANDARD_GRAVITY_M_S2};
+pub use record::{AccelUnit, Record, RecordFormat, RecordMeta, GRAVITY_M_S2};
 pub use spectrum::{
     default_periods_s, log_spaced_periods, response_spectrum, sdof_displacement_history,
     ResponseSpectrum, DEFAULT_DAMPING_RATIO,

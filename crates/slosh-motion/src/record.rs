@@ -7,13 +7,14 @@ use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
 
-/// Standard gravity g₀ = 9.80665 m/s² (exact by definition), used to convert records in g.
-pub const STANDARD_GRAVITY_M_S2: f64 = 9.80665;
+/// The acceleration of gravity slosh uses everywhere, g = 9.81 m/s² (the solver's default,
+/// the closed-form references, the data notes); records in g are converted with it.
+pub const GRAVITY_M_S2: f64 = 9.81;
 
 /// Acceleration units a record file can be written in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum AccelUnit {
-    /// Multiples of standard gravity (1 g = 9.80665 m/s²).
+    /// Multiples of g (1 g = [`GRAVITY_M_S2`] = 9.81 m/s²).
     G,
     /// Gal = cm/s² (1 gal = 0.01 m/s²).
     Gal,
@@ -25,7 +26,7 @@ impl AccelUnit {
     /// Factor that converts a value in this unit to m/s².
     pub fn to_m_s2(self) -> f64 {
         match self {
-            AccelUnit::G => STANDARD_GRAVITY_M_S2,
+            AccelUnit::G => GRAVITY_M_S2,
             AccelUnit::Gal => 0.01,
             AccelUnit::MetersPerSecondSquared => 1.0,
         }

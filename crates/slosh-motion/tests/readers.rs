@@ -5,7 +5,7 @@ mod common;
 use common::{elcentro_path, temp_file};
 use slosh_motion::*;
 
-const G: f64 = STANDARD_GRAVITY_M_S2;
+const G: f64 = GRAVITY_M_S2;
 
 #[test]
 fn elcentro_at2_header_and_peak() {

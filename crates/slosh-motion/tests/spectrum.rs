@@ -124,7 +124,7 @@ fn elcentro_spectrum_peak_and_short_period_limit() {
     // Criteria: peak S_a 0.9–1.1 g at 0.15–0.6 s; the largest S_a within 0.4–0.6 s is 0.9–1.1 g
     // at 0.45–0.55 s; S_a(0.02 s) within 5 % of PGA (a stiff oscillator follows the ground).
     let r = read_at2(elcentro_path()).unwrap();
-    let g = STANDARD_GRAVITY_M_S2;
+    let g = GRAVITY_M_S2;
     let s = r
         .response_spectrum(&default_periods_s(), DEFAULT_DAMPING_RATIO)
         .unwrap();

@@ -10,11 +10,13 @@
 mod case;
 mod engine;
 mod error;
+mod motion_api;
 mod params;
 mod spec;
 
 pub use case::{list_params, load_case, Case, CaseOptions, Excitation, PostResult, RunData};
 pub use engine::{resolve_script_path, PlotRequest};
 pub use error::ScriptError;
+pub use motion_api::MotionInfo;
 pub use params::{parse_set_value, ParamDecl, ParamValue};
 pub use spec::{GaugeSpec, RunSpec, TankSpec};

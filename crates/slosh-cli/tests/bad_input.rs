@@ -1,0 +1,172 @@
+//! Bad input gives a clear one-paragraph error and a non-zero exit code, never a panic;
+//! a blow-up keeps the outputs written so far and says when it happened.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn slosh() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_slosh"))
+}
+
+fn temp(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join("slosh-cli-tests").join(test);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A small, fast 2D case (0.4 m × 0.2 m of water at dx = 0.04 m: 50 fluid particles) whose
+/// ground motion and extra lines can be replaced.
+fn small_case(dir: &Path, ground_accel_body: &str, extra: &str) -> PathBuf {
+    let script = format!(
+        r#"
+let width = param("width", 0.4);
+let tank_height = param("tank_height", 0.4);
+let depth = param("depth", 0.2);
+let dx = param("dx", 0.04);
+let dt = param("dt", 0.0);
+let allow_unstable_dt = param("allow_unstable_dt", false);
+let duration = param("duration", 0.05);
+tank(#{{ shape: "rect", width: width, height: tank_height, depth: depth }});
+numerics(#{{ dx: dx, dt: dt, allow_unstable_dt: allow_unstable_dt }});
+run(#{{ settle: 0.0, duration: duration, output_interval: 0.005 }});
+{extra}
+fn ground_accel(t) {{ {ground_accel_body} }}
+"#
+    );
+    let path = dir.join("case.rhai");
+    std::fs::write(&path, script).unwrap();
+    path
+}
+
+/// Runs `slosh run` and returns (success, stderr).
+fn run(args: &[&str]) -> (bool, String) {
+    let out = slosh().args(args).output().expect("run slosh");
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(
+        !stderr.contains("panicked") && !stderr.contains("RUST_BACKTRACE"),
+        "slosh panicked: {stderr}"
+    );
+    (out.status.success(), stderr)
+}
+
+#[test]
+fn small_case_runs() {
+    let dir = temp("small_case_runs");
+    let case = small_case(&dir, "0.0", "");
+    let out = dir.join("out");
+    let (ok, err) = run(&["run", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet"]);
+    assert!(ok, "{err}");
+    assert!(out.join("series.csv").exists() && out.join("summary.ron").exists());
+}
+
+#[test]
+fn syntax_error_reports_file_line_column() {
+    let dir = temp("syntax_error");
+    let case = small_case(&dir, "0.0", "let x = (1 + ;");
+    let (ok, err) = run(&["run", case.to_str().unwrap(), "--quiet"]);
+    assert!(!ok);
+    // The extra line is line 12 of the generated script (it starts with a newline), column 14.
+    assert!(err.contains("case.rhai:12:14:"), "{err}");
+}
+
+#[test]
+fn unknown_set_name_lists_the_parameters() {
+    let dir = temp("unknown_set");
+    let case = small_case(&dir, "0.0", "");
+    let (ok, err) = run(&["run", case.to_str().unwrap(), "--set", "widht=0.5", "--quiet"]);
+    assert!(!ok);
+    assert!(err.contains("widht") && err.contains("width = 0.4"), "{err}");
+}
+
+#[test]
+fn non_numeric_value_is_refused() {
+    let dir = temp("non_numeric");
+    let case = small_case(&dir, "0.0", "");
+    let (ok, err) = run(&["run", case.to_str().unwrap(), "--set", "width=abc", "--quiet"]);
+    assert!(!ok);
+    assert!(err.contains("width") && err.contains("expects a number"), "{err}");
+}
+
+#[test]
+fn zero_width_is_refused() {
+    let dir = temp("zero_width");
+    let case = small_case(&dir, "0.0", "");
+    let (ok, err) = run(&["run", case.to_str().unwrap(), "--set", "width=0", "--quiet"]);
+    assert!(!ok);
+    assert!(err.contains("width"), "{err}");
+}
+
+#[test]
+fn depth_above_tank_height_is_refused() {
+    let dir = temp("depth_above");
+    let case = small_case(&dir, "0.0", "");
+    let (ok, err) = run(&["run", case.to_str().unwrap(), "--set", "depth=0.6", "--quiet"]);
+    assert!(!ok);
+    assert!(err.contains("above the tank height"), "{err}");
+}
+
+#[test]
+fn dx_larger_than_the_tank_is_refused() {
+    let dir = temp("dx_too_large");
+    let case = small_case(&dir, "0.0", "");
+    let (ok, err) = run(&["run", case.to_str().unwrap(), "--set", "dx=2.0", "--quiet"]);
+    assert!(!ok);
+    assert!(err.contains("dx"), "{err}");
+}
+
+#[test]
+fn nan_ground_motion_is_reported() {
+    let dir = temp("nan_motion");
+    let case = small_case(&dir, "0.0 / 0.0", "");
+    let out = dir.join("out");
+    let (ok, err) = run(&["run", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet"]);
+    assert!(!ok);
+    assert!(err.contains("non-finite"), "{err}");
+}
+
+#[test]
+fn fixed_dt_above_the_bound_is_refused_with_the_bound() {
+    let dir = temp("dt_bound");
+    let case = small_case(&dir, "0.0", "");
+    let (ok, err) = run(&["run", case.to_str().unwrap(), "--set", "dt=0.001", "--quiet"]);
+    assert!(!ok);
+    assert!(err.contains("stability bound") && err.contains("allow_unstable_dt"), "{err}");
+}
+
+/// A violent excitation (100 g) throws the liquid out of the domain: the run stops with the
+/// time of the blow-up and keeps series.csv and summary.ron.
+#[test]
+fn blow_up_keeps_outputs_and_says_when() {
+    let dir = temp("blow_up");
+    let case = small_case(&dir, "if t > 0.01 { 1000.0 } else { 0.0 }", "");
+    let out = dir.join("out");
+    let (ok, err) = run(&[
+        "run",
+        case.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "duration=2.0",
+        "--quiet",
+    ]);
+    assert!(!ok);
+    assert!(err.contains("blew up at t ="), "{err}");
+    let series = std::fs::read_to_string(out.join("series.csv")).unwrap();
+    assert!(series.lines().count() > 2, "rows written before the blow-up are kept");
+    let summary = std::fs::read_to_string(out.join("summary.ron")).unwrap();
+    assert!(summary.contains("status: \"failed\""), "{summary}");
+}
+
+#[test]
+fn list_params_prints_the_declared_parameters() {
+    let out = slosh()
+        .args(["run", concat!(env!("CARGO_MANIFEST_DIR"), "/../../scripts/paper_2d_sloshing.rhai"), "--list-params"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    for name in ["width", "tank_height", "depth", "amplitude", "omega", "dx", "settle", "duration", "initial_tilt", "scheme", "layout"] {
+        assert!(text.contains(name), "missing {name} in\n{text}");
+    }
+}
