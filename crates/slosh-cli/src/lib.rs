@@ -1,8 +1,14 @@
 //! The library behind the `slosh` command: building tanks from scripts, running cases and
 //! writing their outputs. The binary, `slosh validate` and the validation tests share it.
 
+pub mod bench;
 pub mod build;
 pub mod post;
+pub mod roof;
 pub mod runner;
+pub mod validate;
+pub mod sweep;
+pub mod sweep_plot;
+pub mod spectrum;
 
 pub use runner::{run_case, RunOptions, Summary};

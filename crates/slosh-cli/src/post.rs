@@ -22,6 +22,9 @@ pub fn run_data(summary: &Summary, names: &[(String, String)], history: &[Vec<f6
         ("omega_1".into(), summary.theory.omega_1),
         ("period_1".into(), summary.theory.period_1),
         ("lost_particles".into(), summary.lost_particles as f64),
+        ("kurihara_at_max".into(), summary.kurihara_at_max),
+        ("malhotra_at_max".into(), summary.malhotra_at_max),
+        ("impacts".into(), summary.impacts.len() as f64),
     ];
     RunData {
         scalars,

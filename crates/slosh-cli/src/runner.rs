@@ -107,6 +107,12 @@ pub struct Summary {
     pub still_level: f64,
     /// Closed-form references for this tank.
     pub theory: TheoryNumbers,
+    /// Roof impacts with Kurihara's and Malhotra's pressures beside the SPH peak.
+    pub impacts: Vec<crate::roof::RoofImpact>,
+    /// Kurihara (Eq. 28) at the impact with the largest SPH roof pressure (Pa; 0 = no impact).
+    pub kurihara_at_max: f64,
+    /// Malhotra (Eq. 27) at the impact with the largest SPH roof pressure (Pa).
+    pub malhotra_at_max: f64,
     /// Results of the script's `post(run)`.
     pub post: Vec<(String, ParamValue)>,
 }
@@ -150,6 +156,8 @@ fn columns(dim: usize, gauges: &[slosh_script::GaugeSpec]) -> Columns {
     for g in gauges {
         names.push((format!("eta_{}", g.name), "m".into()));
     }
+    names.push(("crest_z".into(), "m".into()));
+    names.push(("crest_vz".into(), "m/s".into()));
     names.push(("kinetic_energy".into(), energy.into()));
     names.push(("n_fluid".into(), "1".into()));
     names.push(("dt".into(), "s".into()));
@@ -164,6 +172,7 @@ fn columns(dim: usize, gauges: &[slosh_script::GaugeSpec]) -> Columns {
     names.push(("roof_p_max".into(), "Pa".into()));
     names.push(("wall_p_max".into(), "Pa".into()));
     names.push(("bottom_force_down".into(), force.into()));
+    names.push(("roof_contact_extent".into(), "m".into()));
     Columns {
         names,
         idx_base_shear_x,
@@ -266,6 +275,7 @@ fn run_loop<const D: usize>(
     let settle = case.run.settle;
     let duration = case.run.duration;
     let interval = case.run.output_interval;
+    let mut roof = crate::roof::RoofMonitor::new(&sim, (duration / interval).ceil() as usize + 2);
     let mut next_output = 0.0;
     let mut next_frame = 0.0;
     let mut pending: VecDeque<PendingRow> = VecDeque::new();
@@ -276,10 +286,13 @@ fn run_loop<const D: usize>(
 
     let complete_row = |row: PendingRow,
                         loads: &PartLoads<D>,
+                        centred_pressure: &[f64],
+                        roof: &mut crate::roof::RoofMonitor<D>,
                         writer: &mut SeriesWriter,
                         history: &mut Vec<Vec<f64>>|
      -> Result<()> {
         let mut values = row.values;
+        let contact = roof.record(loads.time, centred_pressure);
         let shear = slosh_core::loads::base_shear_x(loads, roof_part);
         values.push(shear);
         if D == 3 {
@@ -297,6 +310,7 @@ fn run_loop<const D: usize>(
         values.push(roof_part.map(|k| loads.peak_pressure[k]).unwrap_or(0.0));
         values.push(wall_part.map(|k| loads.peak_pressure[k]).unwrap_or(0.0));
         values.push(-pick(bottom_part));
+        values.push(contact);
         writer.write_row(&values)?;
         for (h, v) in history.iter_mut().zip(&values) {
             h.push(*v);
@@ -342,8 +356,12 @@ fn run_loop<const D: usize>(
             for g in &case.gauges {
                 values.push(eta(&g.horizontal));
             }
+            let (crest_vz, crest_z) = crate::roof::crest(&sim);
+            values.push(crest_z);
+            values.push(crest_vz);
             values.push(sim.kinetic_energy());
             values.push(sim.fluid_inside() as f64);
+            roof.snapshot(&sim);
             values.push(sim.last_dt());
             debug_assert_eq!(values.len(), cols.n_before_loads);
             pending.push_back(PendingRow {
@@ -369,7 +387,8 @@ fn run_loop<const D: usize>(
         if let Some(loads) = sim.loads().centred() {
             while pending.front().is_some_and(|r| r.step <= loads.step) {
                 let row = pending.pop_front().expect("front");
-                complete_row(row, loads, &mut writer, &mut history)?;
+                let centred = sim.loads().centred_pressure();
+                complete_row(row, loads, centred, &mut roof, &mut writer, &mut history)?;
             }
         }
         if let Some(pb) = &progress {
@@ -387,11 +406,12 @@ fn run_loop<const D: usize>(
     // The last N steps: windows cut at the end of the run.
     {
         let mut rows = Vec::new();
-        sim.loads_mut().flush_tail(|loads, _| rows.push(loads.clone()));
-        for loads in rows {
+        sim.loads_mut()
+            .flush_tail(|loads, pressure| rows.push((loads.clone(), pressure.to_vec())));
+        for (loads, pressure) in rows {
             while pending.front().is_some_and(|r| r.step <= loads.step) {
                 let row = pending.pop_front().expect("front");
-                complete_row(row, &loads, &mut writer, &mut history)?;
+                complete_row(row, &loads, &pressure, &mut roof, &mut writer, &mut history)?;
             }
         }
         // Rows of a run without any load point (no wall area) or after a failure before the
@@ -476,12 +496,40 @@ fn run_loop<const D: usize>(
         tank: case.tank.clone(),
         still_level: sim.still_level(),
         theory: theory_numbers(&case.tank, sim.params().gravity),
+        impacts: Vec::new(),
+        kurihara_at_max: 0.0,
+        malhotra_at_max: 0.0,
         post: Vec::new(),
     };
+    if roof.has_roof() {
+        let column = |name: &str| col(name).cloned().unwrap_or_default();
+        let tank = roof_tank(&case.tank, sim.params(), summary.theory.omega_1);
+        summary.impacts = crate::roof::find_impacts(
+            &column("t"),
+            &column("roof_force_up"),
+            &column("roof_p_max"),
+            &column("crest_vz"),
+            &column("roof_contact_extent"),
+            &tank,
+        );
+        if let Some(top) = summary
+            .impacts
+            .iter()
+            .max_by(|a, b| a.p_max_sph.total_cmp(&b.p_max_sph))
+        {
+            summary.kurihara_at_max = top.p_kurihara;
+            summary.malhotra_at_max = top.p_malhotra;
+        }
+        roof.write(out, opts.plots)?;
+        if opts.plots && summary.max_roof_p > 0.0 {
+            roof.write_fig7(out, summary.t_max_roof_p, settle)?;
+        }
+    }
     // Post-processing hook of the script (keeps the other outputs when it fails).
     let mut post_error = None;
     if case.excitation.has_post() {
-        let data = crate::post::run_data(&summary, &cols.names, &history);
+        let mut data = crate::post::run_data(&summary, &cols.names, &history);
+        data.maps.push(("roof_pressure".into(), roof.map_rows()));
         match case.excitation.post(&data) {
             Ok(result) => {
                 summary.post = result.values.clone();
@@ -521,6 +569,24 @@ fn run_loop<const D: usize>(
         );
     }
     Ok(summary)
+}
+
+/// Kurihara's tank numbers from the script's tank: depth H, freeboard H′ at the wall,
+/// half-width l (or radius), ω = the first sloshing mode.
+fn roof_tank(tank: &TankSpec, params: &SphParams, omega_1: f64) -> crate::roof::RoofTank {
+    let (depth, height, half_width) = match tank {
+        TankSpec::Rect { width, height, depth, .. } => (*depth, *height, 0.5 * width),
+        TankSpec::Cylinder { radius, height, depth, .. } => (*depth, *height, *radius),
+        TankSpec::Box { length, height, depth, .. } => (*depth, *height, 0.5 * length),
+    };
+    crate::roof::RoofTank {
+        density: params.rest_density,
+        gravity: params.gravity,
+        depth,
+        freeboard: height - depth,
+        half_width,
+        omega: omega_1,
+    }
 }
 
 fn make_progress(opts: &RunOptions, duration: f64) -> Option<indicatif::ProgressBar> {

@@ -3,7 +3,9 @@
 //! The scheme is the paper's (Ono, Iwamoto & Scawthorn 2007, §2): weakly compressible SPH
 //! with the cubic B-spline kernel, Tait EOS, summation density with a free-surface reset,
 //! the symmetric momentum equation with Newtonian viscous stress and Monaghan artificial
-//! viscosity, three layers of fixed wall particles and leap-frog time integration. No file,
+//! viscosity, three layers of fixed wall particles and leap-frog time integration. Beside it,
+//! switchable one by one (issue 7): continuity density with δ-SPH diffusion, Adami walls,
+//! the Wendland C2 kernel, symplectic time integration and particle shifting. No file,
 //! printing or scripting here: the crate takes particles and parameters and returns numbers.
 pub mod error;
 pub mod gauge;
@@ -18,11 +20,15 @@ pub use error::SimError;
 pub use kernel::{Kernel, KernelKind};
 pub use loads::{LoadEvaluator, LoadPeaks, PartLoads};
 pub use neighbours::{CellGrid, KdTreeSearch, NeighbourBackend, NeighbourSearch};
-pub use params::{SphParams, WallPressureMethod};
+pub use params::{
+    BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, SphParams, WallPressureMethod,
+};
 pub use setup::{ParticleSetup, TankInterior, PART_BOTTOM, PART_ROOF, PART_WALL};
-pub use sim::{Fluid, Simulation, StepStats, Tensor, Vector, Walls};
+pub use sim::{Fluid, PhaseTimes, Simulation, StepStats, Tensor, Vector, Walls};
 
 #[cfg(test)]
 mod test_tank;
 #[cfg(test)]
 mod tests_physics;
+#[cfg(test)]
+mod tests_modern;

@@ -172,6 +172,9 @@ impl<const D: usize> LoadEvaluator<D> {
         let support_sq = kernel.support() * kernel.support();
         let eps = params.pressure_smoothing_eps;
         let method = params.wall_pressure;
+        // Adami walls: the wall particle's extrapolated pressure moved to the wall face
+        // (dx/2 inside along −n) by the same hydrostatic correction: p − ρ_w b·n dx/2.
+        let adami = params.boundary == crate::params::BoundaryMethod::Adami;
         let wall_index = &self.wall_index;
         let normal = &self.normal;
         self.instantaneous
@@ -181,6 +184,14 @@ impl<const D: usize> LoadEvaluator<D> {
             .for_each(|(k, p_out)| {
                 let w = wall_index[k] as usize;
                 *p_out = match method {
+                    WallPressureMethod::WallParticle if adami => {
+                        let pw = walls.pressure[w];
+                        if pw == 0.0 {
+                            0.0
+                        } else {
+                            pw - walls.density[w] * body_force.dot(&normal[k]) * (0.5 * spacing)
+                        }
+                    }
                     WallPressureMethod::WallParticle => walls.pressure[w],
                     WallPressureMethod::NearestFluid => {
                         let j = walls.nearest_fluid[w];
@@ -229,6 +240,16 @@ impl<const D: usize> LoadEvaluator<D> {
         self.history_time[slot] = time;
         self.history_step[slot] = step;
         self.recorded += 1;
+        // Re-add the window exactly once per turn of the ring, so the running sums carry no
+        // round-off drift (a dry wall must read exactly 0 Pa again).
+        if slot == self.window - 1 {
+            self.running_sum.iter_mut().for_each(|s| *s = 0.0);
+            for row in self.history.chunks(n) {
+                for (s, v) in self.running_sum.iter_mut().zip(row) {
+                    *s += v;
+                }
+            }
+        }
         if self.recorded > self.half_window as u64 {
             let count = self.recorded.min(self.window as u64) as f64;
             for (c, s) in self.centred_pressure.iter_mut().zip(&self.running_sum) {

@@ -5,7 +5,7 @@ use crate::neighbours::NeighbourBackend;
 use serde::{Deserialize, Serialize};
 
 /// How the pressure acting on a wall particle is evaluated for loads (not for the fluid's
-/// motion, which always sees the wall particles' own pressure).
+/// motion, which always sees the wall particles' own pressure, see [`BoundaryMethod`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum WallPressureMethod {
     /// Paper §2.6: the pressure of the nearest fluid particle, smoothed in space by Eq. 23.
@@ -13,8 +13,69 @@ pub enum WallPressureMethod {
     /// Shepard-normalised kernel interpolation of the fluid pressure at the wall face, with
     /// the hydrostatic correction ρ f·(x_face − x_j) of Adami, Hu & Adams (2012).
     KernelExtrapolation,
-    /// The wall particle's own pressure from its summed density through the EOS.
+    /// The wall particle's own pressure: with dynamic walls the EOS of its summed density;
+    /// with Adami walls (`BoundaryMethod::Adami`) the extrapolated pressure of Adami, Hu &
+    /// Adams (2012), moved from the wall particle to the wall face by the same hydrostatic
+    /// correction (p_face = p_w − ρ_w b·n dx/2), i.e. Adami's extrapolation evaluated at the face.
     WallParticle,
+}
+
+/// How the fluid density is obtained.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum DensityMethod {
+    /// Paper Eq. 19 (ρ_i = Σ_j m_j W_ij over fluid and wall particles) with the free-surface
+    /// reset of Eq. 20.
+    Summation,
+    /// Continuity equation dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij over fluid and wall
+    /// neighbours (wall velocity 0), integrated in time (Monaghan 1992); no surface reset.
+    Continuity,
+}
+
+/// Density diffusion (δ-SPH) added to the continuity equation (fluid–fluid pairs only);
+/// ignored with summation density.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum DensityDiffusion {
+    /// No diffusion term.
+    None,
+    /// Molteni & Colagrossi (2009): D_i = δ h c0 Σ_j ψ_ij·∇_i W_ij V_j,
+    /// ψ_ij = 2 (ρ_j − ρ_i) x_ji / |x_ij|², V_j = m_j/ρ_j. `delta` dimensionless (0.1 usual).
+    MolteniColagrossi {
+        /// δ (dimensionless).
+        delta: f64,
+    },
+    /// Fourtakas, Dominguez, Vacondio & Rogers (2019): the same term on the dynamic density
+    /// ρ − ρ_H, ρ_H the Tait density of the hydrostatic pressure ρ0 g (z_s − z) below the still
+    /// level z_s, so that the hydrostatic density gradient is not diffused.
+    Fourtakas {
+        /// δ (dimensionless).
+        delta: f64,
+    },
+}
+
+/// How the wall particles act on the fluid's momentum (and, with continuity density, on its
+/// density rate).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum BoundaryMethod {
+    /// Paper (SPEC §4 item 5): wall density by summation (Eq. 19, with the Eq. 20 reset), wall
+    /// pressure from the EOS ("dynamic boundary" particles).
+    Dynamic,
+    /// Generalised wall of Adami, Hu & Adams (2012, J. Comput. Phys. 231, Eq. 27):
+    /// p_w = (Σ_f p_f W_wf + b·Σ_f ρ_f (x_w − x_f) W_wf) / Σ_f W_wf, b the body force the
+    /// liquid feels in the tank frame (gravity minus the ground acceleration), ρ_w from the
+    /// inverse EOS; walls without fluid neighbours get p = 0, ρ = ρ0.
+    Adami,
+}
+
+/// Time integrator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Integrator {
+    /// Paper Eq. 21–22: leap-frog with the forces of the integer time.
+    LeapFrog,
+    /// Symplectic position Verlet (kick–drift form of DualSPHysics, Monaghan 2005 §3.4):
+    /// x^{n+½} = x^n + dt/2 v^n, ρ^{n+½} = ρ^n + dt/2 Dρ; forces at n+½;
+    /// v^{n+1} = v^n + dt a^{n+½}; x^{n+1} = x^{n+½} + dt/2 v^{n+1};
+    /// ρ^{n+1} = ρ^n (2 − ε)/(2 + ε), ε = −(Dρ^{n+½}/ρ^{n+½}) dt.
+    Symplectic,
 }
 
 /// Solver parameters. Units are SI; defaults are the paper's values as SPEC.md reads them.
@@ -62,6 +123,24 @@ pub struct SphParams {
     pub pressure_smoothing_eps: f64,
     /// N of the ±N-step centred rectangular time window applied to wall pressures (§2.6).
     pub smoothing_steps: usize,
+    /// Fluid density: summation (paper, default) or continuity.
+    pub density: DensityMethod,
+    /// Density diffusion of the continuity equation (default none).
+    pub density_diffusion: DensityDiffusion,
+    /// Wall boundary: dynamic particles (paper, default) or Adami's generalised wall.
+    pub boundary: BoundaryMethod,
+    /// With Adami walls: no-slip walls (the artificial viscosity sees the wall velocity
+    /// mirrored from the Shepard-interpolated fluid velocity, v_w = −ṽ_w, and the paper's
+    /// viscous wall term applies). Default false: free slip, no viscous stress from walls.
+    pub wall_no_slip: bool,
+    /// Time integrator: leap-frog (paper, default) or symplectic position Verlet.
+    pub integrator: Integrator,
+    /// Particle shifting coefficient A (dimensionless; `None` = off, the default): each step
+    /// δx_i = −A h |v_i| dt ∇C_i, ∇C_i = Σ_j V_j ∇_i W_ij over fluid and wall neighbours
+    /// (Lind et al. 2012 in the form of Skillen et al. 2013), skipped for particles near the
+    /// free surface (Σ_j V_j W_ij below `free_surface_threshold`) and capped at 0.1 dx.
+    /// Only with the modern step (continuity density, Adami walls or symplectic integrator).
+    pub shifting: Option<f64>,
 }
 
 impl Default for SphParams {
@@ -88,11 +167,25 @@ impl Default for SphParams {
             wall_pressure: WallPressureMethod::NearestFluid,
             pressure_smoothing_eps: 0.5,
             smoothing_steps: 20,
+            density: DensityMethod::Summation,
+            density_diffusion: DensityDiffusion::None,
+            boundary: BoundaryMethod::Dynamic,
+            wall_no_slip: false,
+            integrator: Integrator::LeapFrog,
+            shifting: None,
         }
     }
 }
 
 impl SphParams {
+    /// True when any part of the modern scheme is switched on (continuity density, Adami
+    /// walls, symplectic integrator); the paper's step is used otherwise.
+    pub fn uses_modern_step(&self) -> bool {
+        self.density == DensityMethod::Continuity
+            || self.boundary == BoundaryMethod::Adami
+            || self.integrator == Integrator::Symplectic
+    }
+
     /// Speed of sound of the Tait EOS, c0 = √(γ B / ρ0) (m/s).
     pub fn eos_sound_speed(&self) -> f64 {
         (self.eos_gamma * self.eos_stiffness / self.rest_density).sqrt()

@@ -7,6 +7,10 @@
 //! 3. force pass: the symmetric momentum equation with artificial viscosity (Eq. 8–16);
 //! 4. time step from the CFL bounds (or the fixed dt), leap-frog update (Eq. 21–22);
 //! 5. wall pressures for loads (§2.6) and their time window.
+//!
+//! The switchable parts of the modern scheme (continuity density with δ-SPH, Adami walls,
+//! symplectic integration, shifting; issue 7) run in their own step, `modern.rs`, entered
+//! only when one of them is switched on.
 
 use crate::error::SimError;
 use crate::kernel::Kernel;
@@ -16,6 +20,9 @@ use crate::params::SphParams;
 use crate::setup::{ParticleSetup, TankInterior};
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
+
+#[path = "modern.rs"]
+mod modern;
 
 /// A position, velocity or force vector in D dimensions.
 pub type Vector<const D: usize> = SVector<f64, D>;
@@ -39,12 +46,17 @@ pub struct Fluid<const D: usize> {
     pub acceleration: Vec<Vector<D>>,
     /// Density (kg/m³).
     pub density: Vec<f64>,
+    /// 1/density (m³/kg), kept beside the density so the pair loops multiply instead of divide.
+    pub inverse_density: Vec<f64>,
     /// Pressure (Pa).
     pub pressure: Vec<f64>,
     /// Kernel sum Σ (m/ρ) W of Eq. 20 (dimensionless, ≈ 1 inside the liquid).
     pub kernel_sum: Vec<f64>,
     /// Strain-rate tensor V of Eq. 4–5 (1/s).
     pub strain_rate: Vec<Tensor<D>>,
+    /// Density rate dρ/dt of the continuity equation with its diffusion term (kg/(m³·s));
+    /// zero with summation density.
+    pub density_rate: Vec<f64>,
     /// Original particle index (stable through re-sorting).
     pub id: Vec<u32>,
 }
@@ -56,6 +68,8 @@ pub struct Walls<const D: usize> {
     pub position: Vec<Vector<D>>,
     /// Density from summation (kg/m³).
     pub density: Vec<f64>,
+    /// 1/density (m³/kg).
+    pub inverse_density: Vec<f64>,
     /// Pressure from the EOS (Pa), what the fluid feels.
     pub pressure: Vec<f64>,
     /// Index of the nearest fluid particle within the kernel support (u32::MAX: none).
@@ -112,6 +126,28 @@ impl PassConstants {
     }
 }
 
+/// Wall-clock time spent in each phase of the step (s), summed over the run.
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+pub struct PhaseTimes {
+    /// Re-sorting and re-indexing the fluid particles (neighbour search).
+    pub neighbour_search: f64,
+    /// Density pass and EOS.
+    pub density: f64,
+    /// Force pass.
+    pub forces: f64,
+    /// Time step choice and leap-frog update.
+    pub integration: f64,
+    /// Wall-load evaluation and its time window.
+    pub loads: f64,
+}
+
+impl PhaseTimes {
+    /// Sum of all phases (s).
+    pub fn total(&self) -> f64 {
+        self.neighbour_search + self.density + self.forces + self.integration + self.loads
+    }
+}
+
 /// Time-step statistics of a run.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize)]
 pub struct StepStats {
@@ -148,6 +184,7 @@ pub struct Simulation<const D: usize> {
     dt_previous: f64,
     dt_last: f64,
     stats: StepStats,
+    phase_times: PhaseTimes,
     loads: LoadEvaluator<D>,
     // Scratch buffers, allocated once.
     scratch_vec: Vec<Vector<D>>,
@@ -157,6 +194,10 @@ pub struct Simulation<const D: usize> {
     order: Vec<u32>,
     next_density: Vec<f64>,
     next_wall_density: Vec<f64>,
+    /// Buffers and flags of the modern step; `None` runs the paper's step.
+    modern: Option<modern::ModernState<D>>,
+    /// `still_level()`, computed once (m).
+    still_level_cached: f64,
 }
 
 impl<const D: usize> Simulation<D> {
@@ -193,6 +234,24 @@ impl<const D: usize> Simulation<D> {
         check_positive("eos_stiffness", params.eos_stiffness)?;
         check_positive("eos_gamma", params.eos_gamma)?;
         check_positive("cfl_number", params.cfl_number)?;
+        match params.density_diffusion {
+            crate::params::DensityDiffusion::None => {}
+            crate::params::DensityDiffusion::MolteniColagrossi { delta }
+            | crate::params::DensityDiffusion::Fourtakas { delta } => {
+                if !(delta.is_finite() && delta >= 0.0) {
+                    return Err(SimError::InvalidSetup(format!(
+                        "density diffusion delta must be a number ≥ 0 (got {delta})"
+                    )));
+                }
+            }
+        }
+        if let Some(a) = params.shifting {
+            if !(a.is_finite() && a >= 0.0) {
+                return Err(SimError::InvalidSetup(format!(
+                    "shifting coefficient must be a number ≥ 0 (got {a})"
+                )));
+            }
+        }
         if params.dynamic_viscosity < 0.0 || params.av_alpha < 0.0 || params.av_beta < 0.0 {
             return Err(SimError::InvalidSetup(
                 "viscosity coefficients (dynamic_viscosity, av_alpha, av_beta) must be ≥ 0".into(),
@@ -266,13 +325,16 @@ impl<const D: usize> Simulation<D> {
             velocity_half: vec![Vector::<D>::zeros(); n],
             acceleration: vec![Vector::<D>::zeros(); n],
             density: vec![params.rest_density; n],
+            inverse_density: vec![1.0 / params.rest_density; n],
             pressure: vec![0.0; n],
             kernel_sum: vec![1.0; n],
             strain_rate: vec![Tensor::<D>::zeros(); n],
+            density_rate: vec![0.0; n],
             id: (0..n as u32).collect(),
         };
         let walls = Walls {
             density: vec![params.rest_density; n_wall],
+            inverse_density: vec![1.0 / params.rest_density; n_wall],
             pressure: vec![0.0; n_wall],
             nearest_fluid: vec![u32::MAX; n_wall],
             position: setup.wall_positions,
@@ -295,6 +357,17 @@ impl<const D: usize> Simulation<D> {
         let sort_grid = CellGrid::new(domain_min, domain_max, kernel.support(), &[]);
         let mut loads = LoadEvaluator::new(&walls, setup.part_names.len(), params.smoothing_steps);
         loads.set_roof_part(&setup.part_names);
+        let modern = if params.uses_modern_step() {
+            Some(modern::ModernState::new(
+                &params,
+                h,
+                sound_speed,
+                n,
+                walls.position.len(),
+            ))
+        } else {
+            None
+        };
         let mut sim = Simulation {
             constants,
             spacing: dx,
@@ -320,6 +393,7 @@ impl<const D: usize> Simulation<D> {
                 dt_bound_min: f64::INFINITY,
                 steps_above_bound: 0,
             },
+            phase_times: PhaseTimes::default(),
             loads,
             scratch_vec: vec![Vector::<D>::zeros(); n],
             scratch_f64: vec![0.0; n],
@@ -328,11 +402,18 @@ impl<const D: usize> Simulation<D> {
             order: vec![0; n],
             next_density: vec![0.0; n],
             next_wall_density: vec![0.0; n_wall],
+            modern,
+            still_level_cached: 0.0,
             params,
         };
+        sim.still_level_cached = sim.still_level();
         sim.sort_by_cell();
         sim.rebuild_search();
-        sim.compute_density_and_pressure();
+        if sim.modern.is_some() {
+            sim.modern_init();
+        } else {
+            sim.compute_density_and_pressure();
+        }
         Ok(sim)
     }
 
@@ -345,18 +426,30 @@ impl<const D: usize> Simulation<D> {
                 value: format!("{:?}", ground_accel.as_slice()),
             });
         }
+        if self.modern.is_some() {
+            return self.step_modern(ground_accel);
+        }
+        let clock = std::time::Instant::now();
         let reorder = self.params.reorder_interval;
         if reorder > 0 && self.step > 0 && self.step.is_multiple_of(reorder as u64) {
             self.sort_by_cell();
         }
         if self.step > 0 {
             self.rebuild_search();
+            let t1 = std::time::Instant::now();
+            self.phase_times.neighbour_search += (t1 - clock).as_secs_f64();
             self.compute_density_and_pressure();
+            self.phase_times.density += t1.elapsed().as_secs_f64();
         }
         let mut body_force = -ground_accel;
         body_force[D - 1] -= self.params.gravity;
+        let t2 = std::time::Instant::now();
         self.compute_forces(body_force);
+        let t3 = std::time::Instant::now();
+        self.phase_times.forces += (t3 - t2).as_secs_f64();
         self.record_loads(body_force);
+        let t4 = std::time::Instant::now();
+        self.phase_times.loads += (t4 - t3).as_secs_f64();
 
         // Time step: acoustic and force CFL bounds (SPEC §4 item 2).
         let (max_speed, max_accel) = self.max_speed_and_acceleration();
@@ -387,6 +480,7 @@ impl<const D: usize> Simulation<D> {
         self.dt_last = dt;
         self.time += dt;
         self.step += 1;
+        self.phase_times.integration += t4.elapsed().as_secs_f64();
 
         Ok(())
     }
@@ -395,6 +489,20 @@ impl<const D: usize> Simulation<D> {
     fn record_loads(&mut self, body_force: Vector<D>) {
         let (kernel, mass, dx) = (self.constants.kernel, self.constants.mass, self.spacing);
         let (step, time) = (self.step, self.time);
+        match &self.search {
+            Search::Grid(s) => self.loads.record_step(
+                s, &self.fluid, &self.walls, &kernel, mass, &self.params, body_force, step, time, dx,
+            ),
+            Search::KdTree(s) => self.loads.record_step(
+                s, &self.fluid, &self.walls, &kernel, mass, &self.params, body_force, step, time, dx,
+            ),
+        }
+    }
+
+    /// Wall pressures for loads of the state the forces were computed on, labelled `time`.
+    fn record_loads_at(&mut self, body_force: Vector<D>, time: f64) {
+        let (kernel, mass, dx) = (self.constants.kernel, self.constants.mass, self.spacing);
+        let step = self.step;
         match &self.search {
             Search::Grid(s) => self.loads.record_step(
                 s, &self.fluid, &self.walls, &kernel, mass, &self.params, body_force, step, time, dx,
@@ -432,10 +540,14 @@ impl<const D: usize> Simulation<D> {
         permute(&mut self.fluid.velocity_half, order, &mut self.scratch_vec);
         permute(&mut self.fluid.acceleration, order, &mut self.scratch_vec);
         permute(&mut self.fluid.density, order, &mut self.scratch_f64);
+        permute(&mut self.fluid.inverse_density, order, &mut self.scratch_f64);
         permute(&mut self.fluid.pressure, order, &mut self.scratch_f64);
         permute(&mut self.fluid.kernel_sum, order, &mut self.scratch_f64);
         permute(&mut self.fluid.strain_rate, order, &mut self.scratch_tensor);
         permute(&mut self.fluid.id, order, &mut self.scratch_u32);
+        if self.params.density == crate::params::DensityMethod::Continuity {
+            permute(&mut self.fluid.density_rate, order, &mut self.scratch_f64);
+        }
         // Wall → nearest-fluid links refer to the old order; they are recomputed in the next
         // density pass before anything reads them.
     }
@@ -552,6 +664,10 @@ impl<const D: usize> Simulation<D> {
     /// Time-step statistics.
     pub fn step_stats(&self) -> StepStats {
         self.stats
+    }
+    /// Wall-clock time per phase of the step so far.
+    pub fn phase_times(&self) -> PhaseTimes {
+        self.phase_times
     }
     /// The parameters in use.
     pub fn params(&self) -> &SphParams {
@@ -712,9 +828,9 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
     {
         let pos = &fluid.position;
         let vel = &fluid.velocity;
-        let rho = &fluid.density;
+        let inv_rho = &fluid.inverse_density;
         let wall_pos = &walls.position;
-        let wall_rho = &walls.density;
+        let wall_inv_rho = &walls.inverse_density;
         next_density
             .par_iter_mut()
             .zip(fluid.kernel_sum.par_iter_mut())
@@ -734,7 +850,7 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
                     if r2 < c.support_sq {
                         let r = r2.sqrt();
                         let w = kernel.value(r);
-                        let volume = m / rho[j];
+                        let volume = m * inv_rho[j];
                         rho_sum += m * w;
                         kernel_sum += volume * w;
                         let grad_w = xij * kernel.gradient_factor(r);
@@ -747,7 +863,7 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
                     if r2 < c.support_sq {
                         let w = kernel.value(r2.sqrt());
                         rho_sum += m * w;
-                        kernel_sum += m / wall_rho[w_idx] * w;
+                        kernel_sum += m * wall_inv_rho[w_idx] * w;
                     }
                 });
                 *rho_out = rho_sum;
@@ -763,9 +879,9 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
     }
     {
         let pos = &fluid.position;
-        let rho = &fluid.density;
+        let inv_rho = &fluid.inverse_density;
         let wall_pos = &walls.position;
-        let wall_rho = &walls.density;
+        let wall_inv_rho = &walls.inverse_density;
         next_wall_density
             .par_iter_mut()
             .zip(walls.nearest_fluid.par_iter_mut())
@@ -781,7 +897,7 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
                     if r2 < c.support_sq {
                         let w = kernel.value(r2.sqrt());
                         rho_sum += m * w;
-                        kernel_sum += m / rho[j] * w;
+                        kernel_sum += m * inv_rho[j] * w;
                         if r2 < nearest.0 {
                             nearest = (r2, j as u32);
                         }
@@ -792,7 +908,7 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
                     if r2 < c.support_sq {
                         let w = kernel.value(r2.sqrt());
                         rho_sum += m * w;
-                        kernel_sum += m / wall_rho[k] * w;
+                        kernel_sum += m * wall_inv_rho[k] * w;
                     }
                 });
                 // Eq. 20 applies to wall particles too: a wall particle with too few
@@ -809,26 +925,30 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
     fluid
         .density
         .par_iter_mut()
+        .zip(fluid.inverse_density.par_iter_mut())
         .zip(next_density.par_iter())
         .zip(fluid.kernel_sum.par_iter())
         .zip(fluid.pressure.par_iter_mut())
         .with_min_len(PAR_CHUNK)
-        .for_each(|(((rho, &rho_new), &ksum), p)| {
+        .for_each(|((((rho, inv), &rho_new), &ksum), p)| {
             *rho = if ksum < c.free_surface_threshold {
                 c.rest_density
             } else {
                 rho_new
             };
+            *inv = 1.0 / *rho;
             *p = c.pressure(*rho);
         });
     walls
         .density
         .par_iter_mut()
+        .zip(walls.inverse_density.par_iter_mut())
         .zip(next_wall_density.par_iter())
         .zip(walls.pressure.par_iter_mut())
         .with_min_len(PAR_CHUNK)
-        .for_each(|((rho, &rho_new), p)| {
+        .for_each(|(((rho, inv), &rho_new), p)| {
             *rho = rho_new;
+            *inv = 1.0 / rho_new;
             *p = c.pressure(rho_new);
         });
 }
@@ -849,6 +969,7 @@ fn force_pass<const D: usize, S: NeighbourSearch<D>>(
     let pos = &fluid.position;
     let vel = &fluid.velocity;
     let rho = &fluid.density;
+    let inv_rho = &fluid.inverse_density;
     let p = &fluid.pressure;
     let strain = &fluid.strain_rate;
     let viscous = c.viscosity > 0.0;
@@ -872,6 +993,7 @@ fn force_pass<const D: usize, S: NeighbourSearch<D>>(
             let xi = pos[i];
             let vi = vel[i];
             let rho_i = rho[i];
+            let inv_rho_i = inv_rho[i];
             let p_i = p[i];
             let strain_i = strain[i];
             let mut acc = Vector::<D>::zeros();
@@ -887,7 +1009,7 @@ fn force_pass<const D: usize, S: NeighbourSearch<D>>(
                 let r = r2.sqrt();
                 let grad_w = xij * kernel.gradient_factor(r);
                 let rho_j = rho[j];
-                let inv_rho_ij = 1.0 / (rho_i * rho_j);
+                let inv_rho_ij = inv_rho_i * inv_rho[j];
                 // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
                 let mut scalar = -(p_i + p[j]) * inv_rho_ij;
                 if av_on {
@@ -901,6 +1023,7 @@ fn force_pass<const D: usize, S: NeighbourSearch<D>>(
             });
             let wall_pos = &walls.position;
             let wall_rho = &walls.density;
+            let wall_inv_rho = &walls.inverse_density;
             let wall_p = &walls.pressure;
             search.for_each_wall_candidate(&xi, |w| {
                 let xiw = xi - wall_pos[w];
@@ -911,7 +1034,7 @@ fn force_pass<const D: usize, S: NeighbourSearch<D>>(
                 let r = r2.sqrt();
                 let grad_w = xiw * kernel.gradient_factor(r);
                 let rho_w = wall_rho[w];
-                let inv_rho_iw = 1.0 / (rho_i * rho_w);
+                let inv_rho_iw = inv_rho_i * wall_inv_rho[w];
                 // Wall particles: σ_w = −p_w I (free slip: no viscous stress from the wall),
                 // velocity zero in the artificial viscosity.
                 let mut scalar = -(p_i + wall_p[w]) * inv_rho_iw;

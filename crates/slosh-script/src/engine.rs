@@ -263,28 +263,42 @@ pub(crate) fn dynamic_to_vec(d: &Dynamic) -> Option<Vec<f64>> {
     arr.iter().map(dynamic_to_f64).collect()
 }
 
-/// Resolves a path given by a script relative to the script's folder; refuses absolute
-/// paths and paths that leave the folder.
+/// Resolves a path given by a script: relative to the script's folder, or else to the folder
+/// above it (the project root, where `geometry/` and `data/` live). Absolute paths and paths
+/// with `..` are refused, so a script reads only inside its project.
 pub fn resolve_script_path(script_dir: &Path, relative: &str) -> Result<PathBuf, String> {
     let rel = Path::new(relative);
     if rel.is_absolute() {
         return Err(format!(
-            "\"{relative}\": scripts may only read files relative to their own folder"
+            "\"{relative}\": scripts may only read files relative to their own folder (or the \
+             project folder above it), not absolute paths"
         ));
     }
-    let mut depth: i64 = 0;
     for c in rel.components() {
         match c {
-            Component::ParentDir => depth -= 1,
-            Component::Normal(_) => depth += 1,
-            Component::CurDir => {}
+            Component::Normal(_) | Component::CurDir => {}
+            Component::ParentDir => {
+                return Err(format!(
+                    "\"{relative}\" uses '..': scripts may only read files below their own \
+                     folder or the project folder above it (e.g. \"geometry/roof.obj\")"
+                ))
+            }
             _ => return Err(format!("\"{relative}\": not a plain relative path")),
         }
-        if depth < 0 {
-            return Err(format!(
-                "\"{relative}\" leaves the script's folder; put the file next to the script or below it"
-            ));
+    }
+    let script_dir = script_dir
+        .canonicalize()
+        .unwrap_or_else(|_| script_dir.to_path_buf());
+    let local = script_dir.join(rel);
+    if local.exists() {
+        return Ok(local);
+    }
+    if let Some(project) = script_dir.parent() {
+        let up = project.join(rel);
+        if up.exists() {
+            return Ok(up);
         }
     }
-    Ok(script_dir.join(rel))
+    // Neither exists: report the path next to the script.
+    Ok(local)
 }

@@ -2,7 +2,10 @@
 
 use rhai::{Dynamic, Map};
 use serde::Serialize;
-use slosh_core::{KernelKind, NeighbourBackend, SphParams, WallPressureMethod};
+use slosh_core::{
+    BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, KernelKind, NeighbourBackend,
+    SphParams, WallPressureMethod,
+};
 use std::collections::BTreeSet;
 
 /// Reads the keys of a Rhai map, remembering which were used so that unknown keys (typos)
@@ -334,23 +337,108 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, f64), S
             ))
         }
     };
+    p.density = match r.str_or("density", density_name(p.density))?.as_str() {
+        "summation" => DensityMethod::Summation,
+        "continuity" => DensityMethod::Continuity,
+        other => {
+            return Err(format!(
+                "numerics: unknown density \"{other}\" (use \"summation\" or \"continuity\")"
+            ))
+        }
+    };
+    let (diffusion_default, delta_default) = match p.density_diffusion {
+        DensityDiffusion::None => ("none", 0.1),
+        DensityDiffusion::MolteniColagrossi { delta } => ("molteni_colagrossi", delta),
+        DensityDiffusion::Fourtakas { delta } => ("fourtakas", delta),
+    };
+    let delta = r.f64_or("delta", delta_default)?;
+    if !(delta.is_finite() && delta >= 0.0) {
+        return Err(format!("numerics: delta must be a number ≥ 0 (got {delta})"));
+    }
+    p.density_diffusion = match r.str_or("density_diffusion", diffusion_default)?.as_str() {
+        "none" => DensityDiffusion::None,
+        "molteni_colagrossi" | "molteni" => DensityDiffusion::MolteniColagrossi { delta },
+        "fourtakas" => DensityDiffusion::Fourtakas { delta },
+        other => {
+            return Err(format!(
+                "numerics: unknown density_diffusion \"{other}\" (use \"none\", \
+                 \"molteni_colagrossi\" or \"fourtakas\")"
+            ))
+        }
+    };
+    p.boundary = match r.str_or("boundary", boundary_name(p.boundary))?.as_str() {
+        "dynamic" => BoundaryMethod::Dynamic,
+        "adami" => BoundaryMethod::Adami,
+        other => {
+            return Err(format!(
+                "numerics: unknown boundary \"{other}\" (use \"dynamic\" or \"adami\")"
+            ))
+        }
+    };
+    p.wall_no_slip = r.bool_or("wall_no_slip", p.wall_no_slip)?;
+    p.integrator = match r.str_or("integrator", integrator_name(p.integrator))?.as_str() {
+        "leapfrog" | "leap_frog" => Integrator::LeapFrog,
+        "symplectic" => Integrator::Symplectic,
+        other => {
+            return Err(format!(
+                "numerics: unknown integrator \"{other}\" (use \"leapfrog\" or \"symplectic\")"
+            ))
+        }
+    };
+    let shifting = r.f64_or("shifting", p.shifting.unwrap_or(0.0))?;
+    if !(shifting.is_finite() && shifting >= 0.0) {
+        return Err(format!(
+            "numerics: shifting must be a coefficient ≥ 0 (0 = off), got {shifting}"
+        ));
+    }
+    p.shifting = if shifting > 0.0 { Some(shifting) } else { None };
     p.pressure_smoothing_eps = r.f64_or("smoothing_eps", p.pressure_smoothing_eps)?;
     p.smoothing_steps = r.usize_or("smoothing_steps", p.smoothing_steps)?;
     r.finish()?;
     Ok((p, scheme, dx))
 }
 
-/// The "modern" preset: the paper's equations with the parts of today's engineering codes
-/// that this build offers (Wendland C2 kernel, artificial viscosity at the EOS sound speed,
-/// wall loads from the Shepard kernel extrapolation with hydrostatic correction).
+/// The "modern" preset (issue 7), built from the practice of today's engineering SPH codes:
+/// continuity density with Fourtakas et al. (2019) δ-SPH diffusion (δ = 0.1), Adami, Hu &
+/// Adams (2012) generalised walls (free slip), Wendland C2 kernel (h = 1.3 dx), symplectic
+/// position-Verlet integration with the CFL- and force-limited variable dt, artificial
+/// viscosity α = 0.02 at the EOS sound speed c0, no clamp of negative pressure, and wall
+/// loads from the extrapolated wall pressures (moved to the wall face). Every part can be
+/// switched back one by one with the numerics keys.
 pub fn modern_preset() -> SphParams {
     let base = SphParams::default();
     SphParams {
         kernel: KernelKind::WendlandC2,
+        density: DensityMethod::Continuity,
+        density_diffusion: DensityDiffusion::Fourtakas { delta: 0.1 },
+        boundary: BoundaryMethod::Adami,
+        integrator: Integrator::Symplectic,
         av_alpha: 0.02,
         av_sound_speed: Some(base.eos_sound_speed()),
-        wall_pressure: WallPressureMethod::KernelExtrapolation,
+        clamp_negative_pressure: false,
+        wall_pressure: WallPressureMethod::WallParticle,
         ..base
+    }
+}
+
+fn density_name(d: DensityMethod) -> &'static str {
+    match d {
+        DensityMethod::Summation => "summation",
+        DensityMethod::Continuity => "continuity",
+    }
+}
+
+fn boundary_name(b: BoundaryMethod) -> &'static str {
+    match b {
+        BoundaryMethod::Dynamic => "dynamic",
+        BoundaryMethod::Adami => "adami",
+    }
+}
+
+fn integrator_name(i: Integrator) -> &'static str {
+    match i {
+        Integrator::LeapFrog => "leapfrog",
+        Integrator::Symplectic => "symplectic",
     }
 }
 
@@ -366,5 +454,67 @@ fn wall_pressure_name(m: WallPressureMethod) -> &'static str {
         WallPressureMethod::NearestFluid => "nearest_fluid",
         WallPressureMethod::KernelExtrapolation => "kernel_extrapolation",
         WallPressureMethod::WallParticle => "wall_particle",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn numerics(pairs: &[(&str, Dynamic)]) -> Result<(SphParams, String, f64), String> {
+        let mut map = Map::new();
+        for (k, v) in pairs {
+            map.insert((*k).into(), v.clone());
+        }
+        numerics_from_map(&map)
+    }
+
+    #[test]
+    fn modern_scheme_keys() {
+        let (p, scheme, _) = numerics(&[("scheme", "modern".into())]).unwrap();
+        assert_eq!(scheme, "modern");
+        assert_eq!(p.density, DensityMethod::Continuity);
+        assert_eq!(p.density_diffusion, DensityDiffusion::Fourtakas { delta: 0.1 });
+        assert_eq!(p.boundary, BoundaryMethod::Adami);
+        assert_eq!(p.integrator, Integrator::Symplectic);
+        assert_eq!(p.kernel, KernelKind::WendlandC2);
+        assert!(!p.clamp_negative_pressure);
+        assert_eq!(p.shifting, None);
+        // Switched back part by part.
+        let (p, _, _) = numerics(&[
+            ("scheme", "modern".into()),
+            ("density", "summation".into()),
+            ("density_diffusion", "molteni_colagrossi".into()),
+            ("delta", Dynamic::from(0.05)),
+            ("boundary", "dynamic".into()),
+            ("integrator", "leapfrog".into()),
+            ("shifting", Dynamic::from(2.0)),
+        ])
+        .unwrap();
+        assert_eq!(p.density, DensityMethod::Summation);
+        assert_eq!(p.density_diffusion, DensityDiffusion::MolteniColagrossi { delta: 0.05 });
+        assert_eq!(p.boundary, BoundaryMethod::Dynamic);
+        assert_eq!(p.integrator, Integrator::LeapFrog);
+        assert_eq!(p.shifting, Some(2.0));
+        // The paper scheme is SphParams::default().
+        let (p, _, _) = numerics(&[]).unwrap();
+        assert!(!p.uses_modern_step());
+    }
+
+    #[test]
+    fn unknown_values_are_reported() {
+        for (key, value, hint) in [
+            ("density", "sum", "continuity"),
+            ("density_diffusion", "delta", "fourtakas"),
+            ("boundary", "mirror", "adami"),
+            ("integrator", "euler", "symplectic"),
+        ] {
+            let err = numerics(&[(key, value.into())]).unwrap_err();
+            assert!(err.contains(value) && err.contains(hint), "{err}");
+        }
+        let err = numerics(&[("delta", Dynamic::from(-1.0))]).unwrap_err();
+        assert!(err.contains("delta"), "{err}");
+        let err = numerics(&[("shifting", Dynamic::from(-1.0))]).unwrap_err();
+        assert!(err.contains("shifting"), "{err}");
     }
 }

@@ -1,0 +1,866 @@
+//! `slosh sweep CASE.rhai --vary NAME=V1,V2,... [--vary ...] [--out DIR] [--jobs N]`:
+//! a case run over the cartesian product of parameter values.
+//!
+//! - **Values**: `--vary NAME=V1,V2,...` reads each value like `--set` does (number,
+//!   `true`/`false`, or text; quotes optional, and a quoted value may contain commas). An item
+//!   `START:STOP:STEP` is a numeric range with STOP included when it falls on the grid, e.g.
+//!   `tank_height=0.56:0.66:0.02` (integers when all three are integers, otherwise numbers
+//!   rounded to the decimals written). Lists and ranges mix: `dx=0.01,0.02:0.04:0.01`.
+//!   A single value (`--vary duration=4`) fixes a parameter for every case.
+//! - **Order**: the first `--vary` varies slowest.
+//! - **Folders**: each case runs in `DIR/<name>-<value>__<name>-<value>...` (characters other
+//!   than letters, digits, `.`, `+`, `-`, `_` become `_`), with the child's messages kept in
+//!   `run.log` there.
+//! - **Execution**: one child process per case (`slosh run CASE --set ... --out ... --quiet
+//!   --threads T`), at most `jobs` at once, `T = max(1, cores / jobs)`. Processes isolate a
+//!   crash or blow-up of one case from the others and give each case its own worker pool.
+//! - **Resumable**: a case whose folder holds a `summary.ron` with status `"completed"` and
+//!   the same parameter values (the varied ones, and the script's other defaults) is not run
+//!   again; its row is read from that summary. Changes to the script's code, not its
+//!   parameters, are not detected: delete the folder (or `DIR`) to rerun.
+//! - **Table**: `DIR/sweep.csv`, one row per case in sweep order: `case` (the folder), the
+//!   varied values, `status` (`completed`/`failed`), `error`, then every number at the top
+//!   level of the summary, `theory_<name>` and `post_<name>` (the script's `post` results).
+
+use anyhow::{bail, Context, Result};
+use serde::de::{Deserializer, MapAccess, Visitor};
+use serde::Deserialize;
+use slosh_script::{list_params, load_case, parse_set_value, CaseOptions, ParamValue};
+use std::collections::HashMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::Instant;
+
+/// Largest number of values one `--vary` range may produce (guards against a wrong step).
+const MAX_RANGE_VALUES: usize = 10_000;
+
+/// How a case of a sweep ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CaseStatus {
+    /// Run now and completed.
+    Completed,
+    /// Completed in an earlier sweep; not run again.
+    Skipped,
+    /// Failed (the error says why); the other cases went on.
+    Failed,
+}
+
+impl CaseStatus {
+    /// The word written in `sweep.csv` (a skipped case is `completed` there).
+    pub fn csv_word(self) -> &'static str {
+        match self {
+            CaseStatus::Completed | CaseStatus::Skipped => "completed",
+            CaseStatus::Failed => "failed",
+        }
+    }
+}
+
+impl fmt::Display for CaseStatus {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            CaseStatus::Completed => "completed",
+            CaseStatus::Skipped => "skipped (done before)",
+            CaseStatus::Failed => "failed",
+        })
+    }
+}
+
+/// One case of a sweep.
+#[derive(Clone, Debug)]
+pub struct CaseOutcome {
+    /// Sub-folder name (also the `case` column of `sweep.csv`).
+    pub folder: String,
+    /// The varied parameters with this case's values, in `--vary` order.
+    pub values: Vec<(String, ParamValue)>,
+    /// How it ended.
+    pub status: CaseStatus,
+    /// The error message of a failed case.
+    pub error: Option<String>,
+    /// Wall time of the case (s): the child process for a run case, the summary's
+    /// `wall_time_s` for a skipped one (NaN when unknown).
+    pub wall_time_s: f64,
+}
+
+/// The result of [`cli_sweep`].
+#[derive(Clone, Debug)]
+pub struct SweepOutcome {
+    /// The sweep folder.
+    pub out_dir: PathBuf,
+    /// `out_dir/sweep.csv`.
+    pub csv: PathBuf,
+    /// Every case, in sweep order (first `--vary` slowest).
+    pub cases: Vec<CaseOutcome>,
+}
+
+impl SweepOutcome {
+    fn count(&self, status: CaseStatus) -> usize {
+        self.cases.iter().filter(|c| c.status == status).count()
+    }
+    /// Cases that failed.
+    pub fn failed(&self) -> usize {
+        self.count(CaseStatus::Failed)
+    }
+    /// Cases run and completed in this call.
+    pub fn completed(&self) -> usize {
+        self.count(CaseStatus::Completed)
+    }
+    /// Cases found completed from an earlier sweep and not run again.
+    pub fn skipped(&self) -> usize {
+        self.count(CaseStatus::Skipped)
+    }
+}
+
+/// One `--vary` argument: a parameter name and its values.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Vary {
+    /// Parameter name.
+    pub name: String,
+    /// Values, in the order given.
+    pub values: Vec<ParamValue>,
+}
+
+/// Parses `NAME=V1,V2,...` (items may be `START:STOP:STEP` ranges); see the module docs.
+pub fn parse_vary(arg: &str) -> Result<Vary> {
+    let Some((name, list)) = arg.split_once('=') else {
+        bail!("--vary {arg}: expected NAME=V1,V2,... (e.g. --vary tank_height=0.56,0.6) or NAME=START:STOP:STEP");
+    };
+    let name = name.trim();
+    if name.is_empty() {
+        bail!("--vary {arg}: the parameter name before '=' is empty");
+    }
+    let mut values = Vec::new();
+    for item in split_items(list) {
+        let item = item.trim();
+        if item.is_empty() {
+            bail!("--vary {arg}: an empty value (two commas in a row, or a comma at an end); write the values as NAME=V1,V2,...");
+        }
+        match parse_range(item) {
+            Some(range) => values.extend(range.with_context(|| format!("--vary {arg}"))?),
+            None => values.push(parse_set_value(item)),
+        }
+    }
+    if values.is_empty() {
+        bail!("--vary {arg}: no values after '='; write them as NAME=V1,V2,...");
+    }
+    for (i, v) in values.iter().enumerate() {
+        if values[..i].contains(v) {
+            bail!("--vary {arg}: the value {v} appears twice; list each value once");
+        }
+    }
+    Ok(Vary {
+        name: name.to_string(),
+        values,
+    })
+}
+
+/// Splits at commas outside single or double quotes.
+fn split_items(list: &str) -> Vec<&str> {
+    let mut items = Vec::new();
+    let mut quote: Option<char> = None;
+    let mut start = 0;
+    for (i, c) in list.char_indices() {
+        match (quote, c) {
+            (None, '"' | '\'') => quote = Some(c),
+            (Some(q), _) if c == q => quote = None,
+            (None, ',') => {
+                items.push(&list[start..i]);
+                start = i + 1;
+            }
+            _ => {}
+        }
+    }
+    items.push(&list[start..]);
+    items
+}
+
+/// `START:STOP:STEP` when the item has that form with three numbers, else None.
+fn parse_range(item: &str) -> Option<Result<Vec<ParamValue>>> {
+    let parts: Vec<&str> = item.split(':').map(str::trim).collect();
+    if parts.len() != 3 {
+        return None;
+    }
+    let nums: Vec<f64> = parts.iter().filter_map(|p| p.parse::<f64>().ok()).collect();
+    if nums.len() != 3 {
+        return None;
+    }
+    let (start, stop, step) = (nums[0], nums[1], nums[2]);
+    Some((|| {
+        if !(start.is_finite() && stop.is_finite() && step.is_finite()) || step == 0.0 {
+            bail!("range {item}: START:STOP:STEP needs finite numbers and a non-zero step");
+        }
+        if (stop - start) * step < 0.0 {
+            bail!("range {item}: the step {step} goes away from STOP; use a step of the other sign");
+        }
+        let n = ((stop - start) / step + 1e-9).floor() as usize + 1;
+        if n > MAX_RANGE_VALUES {
+            bail!("range {item}: {n} values (at most {MAX_RANGE_VALUES}); check the step");
+        }
+        let ints: Vec<i64> = parts.iter().filter_map(|p| p.parse::<i64>().ok()).collect();
+        if ints.len() == 3 {
+            return Ok((0..n as i64)
+                .map(|i| ParamValue::Int(ints[0] + i * ints[2]))
+                .collect());
+        }
+        // Round to the decimals written so that 0.56:0.66:0.02 gives 0.58, not 0.58000000001.
+        let decimals = parts
+            .iter()
+            .map(|p| {
+                if p.contains(['e', 'E']) {
+                    None
+                } else {
+                    Some(p.split_once('.').map_or(0, |(_, d)| d.len()))
+                }
+            })
+            .try_fold(0usize, |acc, d| d.map(|d| acc.max(d)));
+        Ok((0..n)
+            .map(|i| {
+                let x = start + i as f64 * step;
+                let x = match decimals {
+                    Some(d) if d <= 15 => {
+                        let scale = 10f64.powi(d as i32);
+                        (x * scale).round() / scale
+                    }
+                    _ => x,
+                };
+                ParamValue::Float(x)
+            })
+            .collect())
+    })())
+}
+
+/// A parameter value as text for a folder name (no quotes).
+fn value_text(v: &ParamValue) -> String {
+    match v {
+        ParamValue::Str(s) => s.clone(),
+        other => other.to_string(),
+    }
+}
+
+/// The sub-folder name of a case: `name-value__name-value`, sanitised.
+pub fn case_folder_name(values: &[(String, ParamValue)]) -> String {
+    let sanitise = |s: &str| -> String {
+        s.chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || matches!(c, '.' | '+' | '-' | '_') {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect()
+    };
+    let name = values
+        .iter()
+        .map(|(n, v)| format!("{}-{}", sanitise(n), sanitise(&value_text(v))))
+        .collect::<Vec<_>>()
+        .join("__");
+    if name.is_empty() {
+        "case".into()
+    } else {
+        name
+    }
+}
+
+/// A parameter value as read back from `summary.ron` (ParamValue's serialised form).
+#[derive(Clone, Debug, Deserialize)]
+enum SummaryValue {
+    Float(f64),
+    Int(i64),
+    Bool(bool),
+    Str(String),
+}
+
+impl From<SummaryValue> for ParamValue {
+    fn from(v: SummaryValue) -> Self {
+        match v {
+            SummaryValue::Float(x) => ParamValue::Float(x),
+            SummaryValue::Int(i) => ParamValue::Int(i),
+            SummaryValue::Bool(b) => ParamValue::Bool(b),
+            SummaryValue::Str(s) => ParamValue::Str(s),
+        }
+    }
+}
+
+/// The part of `summary.ron` a sweep needs with its types.
+#[derive(Debug, Deserialize)]
+struct SummaryHead {
+    status: String,
+    #[serde(default)]
+    error: Option<String>,
+    /// Not written (yet) by `slosh run`; a post(run) error recorded here marks the case
+    /// as not completed.
+    #[serde(default)]
+    post_error: Option<String>,
+    #[serde(default)]
+    parameters: Vec<(String, SummaryValue)>,
+    #[serde(default)]
+    post: Vec<(String, SummaryValue)>,
+}
+
+/// The top level of a RON struct with its fields in file order.
+struct OrderedFields(Vec<(String, ron::Value)>);
+
+impl<'de> Deserialize<'de> for OrderedFields {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = OrderedFields;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a struct of named fields")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> std::result::Result<Self::Value, A::Error> {
+                let mut fields = Vec::new();
+                while let Some((k, v)) = map.next_entry::<String, ron::Value>()? {
+                    fields.push((k, v));
+                }
+                Ok(OrderedFields(fields))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// A summary read back: its typed head and its scalars flattened to (column, text).
+struct ReadSummary {
+    head: SummaryHead,
+    scalars: Vec<(String, String)>,
+}
+
+impl ReadSummary {
+    fn completed(&self) -> bool {
+        self.head.status == "completed" && self.head.post_error.is_none()
+    }
+    fn wall_time(&self) -> f64 {
+        self.scalars
+            .iter()
+            .find(|(k, _)| k == "wall_time_s")
+            .and_then(|(_, v)| v.parse().ok())
+            .unwrap_or(f64::NAN)
+    }
+}
+
+fn number_text(v: &ron::Value) -> Option<String> {
+    match v {
+        ron::Value::Number(n) => Some(slosh_io::format_f64(n.into_f64())),
+        _ => None,
+    }
+}
+
+fn read_summary(path: &Path) -> Result<ReadSummary> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read {}", path.display()))?;
+    let head: SummaryHead = ron::from_str(&text)
+        .with_context(|| format!("{} is not a summary written by slosh run", path.display()))?;
+    let fields: OrderedFields = ron::from_str(&text)
+        .with_context(|| format!("{} is not a summary written by slosh run", path.display()))?;
+    let mut scalars = Vec::new();
+    for (key, value) in &fields.0 {
+        if let Some(t) = number_text(value) {
+            scalars.push((key.clone(), t));
+        } else if key == "theory" {
+            if let ron::Value::Map(m) = value {
+                for (k, v) in m.iter() {
+                    if let (ron::Value::String(k), Some(t)) = (k, number_text(v)) {
+                        scalars.push((format!("theory_{k}"), t));
+                    }
+                }
+            }
+        }
+    }
+    for (k, v) in &head.post {
+        let t = match v {
+            SummaryValue::Float(x) => slosh_io::format_f64(*x),
+            SummaryValue::Int(i) => i.to_string(),
+            SummaryValue::Bool(b) => b.to_string(),
+            SummaryValue::Str(s) => s.clone(),
+        };
+        scalars.push((format!("post_{k}"), t));
+    }
+    Ok(ReadSummary { head, scalars })
+}
+
+/// True when the summary's parameters agree with `expected` (every varied parameter must be
+/// present; the script's other parameters are compared when the summary lists them).
+fn same_parameters(
+    summary: &SummaryHead,
+    expected: &[(String, ParamValue)],
+    varied: &[(String, ParamValue)],
+) -> bool {
+    let used: HashMap<&str, ParamValue> = summary
+        .parameters
+        .iter()
+        .map(|(k, v)| (k.as_str(), v.clone().into()))
+        .collect();
+    varied.iter().all(|(k, v)| used.get(k.as_str()) == Some(v))
+        && expected
+            .iter()
+            .all(|(k, v)| used.get(k.as_str()).is_none_or(|u| u == v))
+}
+
+/// Everything about one case before it runs.
+struct Planned {
+    folder: String,
+    dir: PathBuf,
+    values: Vec<(String, ParamValue)>,
+    /// The script's parameters with this case's values.
+    expected: Vec<(String, ParamValue)>,
+}
+
+/// The result of one case: its outcome and, when readable, its summary.
+struct Done {
+    outcome: CaseOutcome,
+    summary: Option<ReadSummary>,
+}
+
+/// Runs `case` over the cartesian product of the `--vary` values (see the module docs) and
+/// writes `DIR/sweep.csv`. `exe` is the `slosh` executable the cases run with (the CLI passes
+/// `std::env::current_exe()`); `jobs` is the number of cases run at once (0: one per core, up
+/// to the number of cases). Failed cases do not stop the others: they are reported on stderr
+/// and in the outcome, and the caller decides the exit status. Errors are returned only for
+/// bad arguments or when the sweep's own files cannot be written.
+pub fn cli_sweep(
+    exe: &Path,
+    case: &Path,
+    vary: &[String],
+    out: Option<PathBuf>,
+    jobs: usize,
+    quiet: bool,
+) -> Result<SweepOutcome> {
+    if vary.is_empty() {
+        bail!("slosh sweep needs at least one --vary NAME=V1,V2,... (e.g. --vary tank_height=0.56,0.6,0.66)");
+    }
+    if !exe.is_file() {
+        bail!(
+            "the slosh executable {} that runs the cases was not found",
+            exe.display()
+        );
+    }
+    let varies: Vec<Vary> = vary.iter().map(|a| parse_vary(a)).collect::<Result<_>>()?;
+    for (i, v) in varies.iter().enumerate() {
+        if varies[..i].iter().any(|w| w.name == v.name) {
+            bail!(
+                "--vary {} is given twice; put all its values in one --vary {}=V1,V2,...",
+                v.name,
+                v.name
+            );
+        }
+    }
+
+    // Check the names and types against the script's declarations before running anything.
+    let declared = list_params(case)
+        .with_context(|| format!("cannot read the parameters of {}", case.display()))?;
+    let known = || {
+        declared
+            .iter()
+            .map(|p| format!("  {} = {}", p.name, p.default))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    let mut typed: Vec<Vary> = Vec::new();
+    for v in &varies {
+        let Some(decl) = declared.iter().find(|p| p.name == v.name) else {
+            bail!(
+                "--vary {}: {} declares no parameter of that name; its parameters are:\n{}",
+                v.name,
+                case.display(),
+                known()
+            );
+        };
+        let values = v
+            .values
+            .iter()
+            .map(|x| {
+                x.coerce_to(&decl.default)
+                    .map_err(|e| anyhow::anyhow!("--vary {}: {e}", v.name))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        typed.push(Vary {
+            name: v.name.clone(),
+            values,
+        });
+    }
+
+    let out_dir = match out {
+        Some(d) => d,
+        None => {
+            let name = load_case(case, &CaseOptions::default())
+                .map(|c| c.name)
+                .unwrap_or_else(|_| {
+                    case.file_stem()
+                        .map(|s| s.to_string_lossy().into_owned())
+                        .unwrap_or_else(|| "case".into())
+                });
+            PathBuf::from("out").join(format!("{name}-sweep"))
+        }
+    };
+    std::fs::create_dir_all(&out_dir)
+        .with_context(|| format!("cannot create the sweep folder {}", out_dir.display()))?;
+
+    // The cartesian product, first --vary slowest.
+    let total: usize = typed.iter().map(|v| v.values.len()).product();
+    let mut planned: Vec<Planned> = Vec::with_capacity(total);
+    let mut folders: HashMap<String, usize> = HashMap::new();
+    for k in 0..total {
+        let mut rest = k;
+        let mut values = vec![(String::new(), ParamValue::Int(0)); typed.len()];
+        for (j, v) in typed.iter().enumerate().rev() {
+            values[j] = (v.name.clone(), v.values[rest % v.values.len()].clone());
+            rest /= v.values.len();
+        }
+        let folder = case_folder_name(&values);
+        if let Some(&other) = folders.get(&folder) {
+            bail!(
+                "two cases get the same folder name {folder} ({} and {}): values that differ only in characters other than letters, digits, '.', '+', '-' and '_' cannot be told apart; change one of them",
+                fmt_values(&planned[other].values),
+                fmt_values(&values)
+            );
+        }
+        folders.insert(folder.clone(), k);
+        let expected = declared
+            .iter()
+            .map(|p| {
+                let v = values
+                    .iter()
+                    .find(|(n, _)| *n == p.name)
+                    .map_or_else(|| p.default.clone(), |(_, v)| v.clone());
+                (p.name.clone(), v)
+            })
+            .collect();
+        planned.push(Planned {
+            dir: out_dir.join(&folder),
+            folder,
+            values,
+            expected,
+        });
+    }
+
+    // Resume: cases already completed with these parameters are not run again.
+    let mut results: Vec<Option<Done>> = Vec::with_capacity(total);
+    let mut to_run = Vec::new();
+    for (k, p) in planned.iter().enumerate() {
+        let done = read_summary(&p.dir.join("summary.ron"))
+            .ok()
+            .filter(|s| s.completed() && same_parameters(&s.head, &p.expected, &p.values));
+        match done {
+            Some(s) => results.push(Some(Done {
+                outcome: CaseOutcome {
+                    folder: p.folder.clone(),
+                    values: p.values.clone(),
+                    status: CaseStatus::Skipped,
+                    error: None,
+                    wall_time_s: s.wall_time(),
+                },
+                summary: Some(s),
+            })),
+            None => {
+                results.push(None);
+                to_run.push(k);
+            }
+        }
+    }
+
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let jobs = if jobs == 0 { cores } else { jobs }
+        .min(to_run.len())
+        .max(1);
+    let threads = (cores / jobs).max(1);
+    if !quiet {
+        eprintln!(
+            "sweep: {total} cases into {}: {} to run ({} done before), {jobs} at a time with {threads} thread{} each",
+            out_dir.display(),
+            to_run.len(),
+            total - to_run.len(),
+            if threads == 1 { "" } else { "s" }
+        );
+    }
+
+    let results = Mutex::new(results);
+    let next = AtomicUsize::new(0);
+    let finished = AtomicUsize::new(0);
+    std::thread::scope(|scope| {
+        for _ in 0..jobs {
+            scope.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::SeqCst);
+                let Some(&k) = to_run.get(i) else { break };
+                let p = &planned[k];
+                let done = run_one(exe, case, p, threads);
+                let n = finished.fetch_add(1, Ordering::SeqCst) + 1;
+                let o = &done.outcome;
+                if o.status == CaseStatus::Failed {
+                    eprintln!(
+                        "sweep: case {} failed: {} (log: {})",
+                        o.folder,
+                        o.error.as_deref().unwrap_or("unknown error"),
+                        p.dir.join("run.log").display()
+                    );
+                } else if !quiet {
+                    eprintln!(
+                        "sweep: [{n}/{}] {} completed in {:.1} s",
+                        to_run.len(),
+                        o.folder,
+                        o.wall_time_s
+                    );
+                }
+                results.lock().expect("sweep results")[k] = Some(done);
+            });
+        }
+    });
+    let results: Vec<Done> = results
+        .into_inner()
+        .expect("sweep results")
+        .into_iter()
+        .map(|d| d.expect("every case has a result"))
+        .collect();
+
+    let csv = out_dir.join("sweep.csv");
+    write_table(&csv, &typed, &results)?;
+    let cases: Vec<CaseOutcome> = results.into_iter().map(|d| d.outcome).collect();
+    let outcome = SweepOutcome {
+        out_dir,
+        csv,
+        cases,
+    };
+    if !quiet {
+        print_table(&outcome);
+    }
+    Ok(outcome)
+}
+
+fn fmt_values(values: &[(String, ParamValue)]) -> String {
+    values
+        .iter()
+        .map(|(n, v)| format!("{n}={v}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Runs one case as a child `slosh run` and reads its summary back.
+fn run_one(exe: &Path, case: &Path, p: &Planned, threads: usize) -> Done {
+    let start = Instant::now();
+    let fail = |error: String, summary: Option<ReadSummary>| Done {
+        outcome: CaseOutcome {
+            folder: p.folder.clone(),
+            values: p.values.clone(),
+            status: CaseStatus::Failed,
+            error: Some(error),
+            wall_time_s: start.elapsed().as_secs_f64(),
+        },
+        summary,
+    };
+    if let Err(e) = std::fs::create_dir_all(&p.dir) {
+        return fail(format!("cannot create {}: {e}", p.dir.display()), None);
+    }
+    // A stale summary must not stand in for this run if the run fails before writing one.
+    let summary_path = p.dir.join("summary.ron");
+    let _ = std::fs::remove_file(&summary_path);
+    let log_path = p.dir.join("run.log");
+    let log = match std::fs::File::create(&log_path) {
+        Ok(f) => f,
+        Err(e) => return fail(format!("cannot create {}: {e}", log_path.display()), None),
+    };
+    let log_err = match log.try_clone() {
+        Ok(f) => f,
+        Err(e) => return fail(format!("cannot write {}: {e}", log_path.display()), None),
+    };
+    let mut cmd = Command::new(exe);
+    cmd.arg("run")
+        .arg(case)
+        .arg("--out")
+        .arg(&p.dir)
+        .arg("--quiet")
+        .arg("--threads")
+        .arg(threads.to_string());
+    for (name, value) in &p.values {
+        // ParamValue's Display quotes strings, which --set strips: the text round-trips.
+        cmd.arg("--set").arg(format!("{name}={value}"));
+    }
+    let status = cmd
+        .stdin(Stdio::null())
+        .stdout(Stdio::from(log))
+        .stderr(Stdio::from(log_err))
+        .status();
+    let elapsed = start.elapsed().as_secs_f64();
+    let status = match status {
+        Ok(s) => s,
+        Err(e) => return fail(format!("cannot start {}: {e}", exe.display()), None),
+    };
+    let summary = read_summary(&summary_path).ok();
+    if status.success() {
+        if let Some(s) = summary.as_ref().filter(|s| s.completed()) {
+            let _ = s;
+            return Done {
+                outcome: CaseOutcome {
+                    folder: p.folder.clone(),
+                    values: p.values.clone(),
+                    status: CaseStatus::Completed,
+                    error: None,
+                    wall_time_s: elapsed,
+                },
+                summary,
+            };
+        }
+    }
+    let log_text = std::fs::read_to_string(&log_path).unwrap_or_default();
+    let error = error_message(&log_text)
+        .or_else(|| summary.as_ref().and_then(|s| s.head.error.clone()))
+        .or_else(|| summary.as_ref().and_then(|s| s.head.post_error.clone()))
+        .unwrap_or_else(|| {
+            if status.success() {
+                "the run wrote no completed summary.ron".into()
+            } else {
+                format!("slosh run exited with {status}")
+            }
+        });
+    fail(error, summary)
+}
+
+/// The error paragraph of a `slosh run` log (after `error: `, or a panic message), on one line.
+fn error_message(log: &str) -> Option<String> {
+    let start = log
+        .rfind("error: ")
+        .map(|i| i + "error: ".len())
+        .or_else(|| log.find("panicked at"))?;
+    let text = log[start..].split_whitespace().collect::<Vec<_>>().join(" ");
+    (!text.is_empty()).then_some(text)
+}
+
+/// Writes `sweep.csv`: case, varied values, status, error, then the union of the summaries'
+/// scalar columns in first-seen order.
+fn write_table(path: &Path, varies: &[Vary], results: &[Done]) -> Result<()> {
+    let mut header: Vec<String> = vec!["case".into()];
+    header.extend(varies.iter().map(|v| v.name.clone()));
+    header.push("status".into());
+    header.push("error".into());
+    let fixed = header.len();
+    for d in results {
+        for (k, _) in d.summary.iter().flat_map(|s| &s.scalars) {
+            if !header.contains(k) {
+                header.push(k.clone());
+            }
+        }
+    }
+    let index: HashMap<&str, usize> = header
+        .iter()
+        .enumerate()
+        .skip(fixed)
+        .map(|(i, k)| (k.as_str(), i))
+        .collect();
+    let mut table = slosh_io::TableWriter::create(path, &header)
+        .with_context(|| format!("cannot write the sweep table {}", path.display()))?;
+    for d in results {
+        let mut row = vec![String::new(); header.len()];
+        row[0] = d.outcome.folder.clone();
+        for (j, (_, v)) in d.outcome.values.iter().enumerate() {
+            row[1 + j] = value_text(v);
+        }
+        row[fixed - 2] = d.outcome.status.csv_word().into();
+        row[fixed - 1] = d.outcome.error.clone().unwrap_or_default();
+        for (k, v) in d.summary.iter().flat_map(|s| &s.scalars) {
+            row[index[k.as_str()]] = v.clone();
+        }
+        table
+            .write_text_row(&row)
+            .with_context(|| format!("cannot write the sweep table {}", path.display()))?;
+    }
+    table
+        .flush()
+        .with_context(|| format!("cannot write the sweep table {}", path.display()))?;
+    Ok(())
+}
+
+/// The closing table: case, status, wall time.
+fn print_table(outcome: &SweepOutcome) {
+    let width = outcome
+        .cases
+        .iter()
+        .map(|c| c.folder.len())
+        .max()
+        .unwrap_or(4)
+        .max(4);
+    println!("{:<width$}  {:<22}  wall time", "case", "status");
+    for c in &outcome.cases {
+        println!(
+            "{:<width$}  {:<22}  {:>7.1} s",
+            c.folder,
+            c.status.to_string(),
+            c.wall_time_s
+        );
+    }
+    println!(
+        "{} cases: {} completed, {} skipped (done before), {} failed; table: {}",
+        outcome.cases.len(),
+        outcome.completed(),
+        outcome.skipped(),
+        outcome.failed(),
+        outcome.csv.display()
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lists_ranges_and_quotes() {
+        let v = parse_vary("tank_height=0.56:0.62:0.02,0.7").unwrap();
+        assert_eq!(v.name, "tank_height");
+        assert_eq!(
+            v.values,
+            [0.56, 0.58, 0.6, 0.62, 0.7].map(ParamValue::Float).to_vec()
+        );
+        let v = parse_vary("n=8:40:16").unwrap();
+        assert_eq!(v.values, [8, 24, 40].map(ParamValue::Int).to_vec());
+        let v = parse_vary("x=1:0:-0.5").unwrap();
+        assert_eq!(v.values, [1.0, 0.5, 0.0].map(ParamValue::Float).to_vec());
+        let v = parse_vary(r#"roof="a,b",cone"#).unwrap();
+        assert_eq!(
+            v.values,
+            vec![ParamValue::Str("a,b".into()), ParamValue::Str("cone".into())]
+        );
+        let v = parse_vary("mesh=C:/tanks/roof.obj").unwrap();
+        assert_eq!(v.values, vec![ParamValue::Str("C:/tanks/roof.obj".into())]);
+    }
+
+    #[test]
+    fn bad_vary_arguments_say_how_to_fix() {
+        for (arg, words) in [
+            ("tank_height", "NAME=V1,V2"),
+            ("=1,2", "name"),
+            ("a=1,,2", "empty value"),
+            ("a=", "empty value"),
+            ("a=1,1", "twice"),
+            ("a=0:1:0", "non-zero step"),
+            ("a=0:1:-0.1", "other sign"),
+            ("a=0:1e9:1", "at most"),
+        ] {
+            let e = format!("{:#}", parse_vary(arg).unwrap_err());
+            assert!(e.contains(words), "{arg}: {e}");
+        }
+    }
+
+    #[test]
+    fn folder_names_are_sanitised() {
+        let values = vec![
+            ("tank_height".to_string(), ParamValue::Float(0.58)),
+            ("smoothing_steps".to_string(), ParamValue::Int(8)),
+            ("roof".to_string(), ParamValue::Str("meshes/a b.obj".into())),
+        ];
+        assert_eq!(
+            case_folder_name(&values),
+            "tank_height-0.58__smoothing_steps-8__roof-meshes_a_b.obj"
+        );
+    }
+
+    #[test]
+    fn error_message_takes_the_last_error_paragraph() {
+        let log = "case: 2D\nerror: depth 0.6 m is above\n  the tank height 0.4 m\n";
+        assert_eq!(
+            error_message(log).unwrap(),
+            "depth 0.6 m is above the tank height 0.4 m"
+        );
+        assert!(error_message("all fine\n").is_none());
+    }
+}

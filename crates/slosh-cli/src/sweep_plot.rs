@@ -1,0 +1,150 @@
+//! Plots of a sweep's results: `sweep.csv` columns against each other, grouped by the values
+//! of other columns (paper Fig. 8: peak roof pressure against tank height, one line per time
+//! window; Fig. 10: peak roof force against H'/H, one line per tank width).
+
+use anyhow::{bail, Context, Result};
+use slosh_io::{PlotSpec, Series};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// A plot request `X:Y1,Y2[:G1+G2]`: x column, y columns, optional grouping columns.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepPlot {
+    /// Column on the horizontal axis.
+    pub x: String,
+    /// Columns on the vertical axis (one series each, per group).
+    pub ys: Vec<String>,
+    /// Columns whose values split the rows into groups.
+    pub groups: Vec<String>,
+}
+
+impl SweepPlot {
+    /// Parses `X:Y1,Y2[:G1+G2]`.
+    pub fn parse(spec: &str) -> Result<SweepPlot> {
+        let parts: Vec<&str> = spec.split(':').collect();
+        if parts.len() < 2 || parts.len() > 3 || parts.iter().any(|p| p.trim().is_empty()) {
+            bail!(
+                "--plot {spec}: expected X:Y or X:Y1,Y2:GROUP (e.g. tank_height:max_roof_p:smoothing_steps)"
+            );
+        }
+        Ok(SweepPlot {
+            x: parts[0].trim().to_string(),
+            ys: parts[1].split(',').map(|s| s.trim().to_string()).collect(),
+            groups: parts
+                .get(2)
+                .map(|g| g.split('+').map(|s| s.trim().to_string()).collect())
+                .unwrap_or_default(),
+        })
+    }
+
+    /// File stem of the plot in the sweep folder.
+    pub fn file_stem(&self) -> String {
+        let mut s = format!("plot_{}_vs_{}", self.ys.join("_"), self.x);
+        if !self.groups.is_empty() {
+            s.push_str("_by_");
+            s.push_str(&self.groups.join("_"));
+        }
+        s
+    }
+}
+
+/// Draws `plot` from `sweep_csv` into `<dir>/<stem>.png/.svg` and returns the path stem.
+/// Rows whose x or y is not a number (failed cases) are left out.
+pub fn draw(sweep_csv: &Path, plot: &SweepPlot, title: &str) -> Result<PathBuf> {
+    let mut reader = csv::Reader::from_path(sweep_csv)
+        .with_context(|| format!("cannot read {}", sweep_csv.display()))?;
+    let header: Vec<String> = reader.headers()?.iter().map(|s| s.to_string()).collect();
+    let col = |name: &str| -> Result<usize> {
+        header.iter().position(|h| h == name).with_context(|| {
+            format!(
+                "{} has no column {name}; columns: {}",
+                sweep_csv.display(),
+                header.join(", ")
+            )
+        })
+    };
+    let xi = col(&plot.x)?;
+    let yis: Vec<usize> = plot.ys.iter().map(|y| col(y)).collect::<Result<_>>()?;
+    let gis: Vec<usize> = plot.groups.iter().map(|g| col(g)).collect::<Result<_>>()?;
+    // group label → y column → (x, y) points
+    let mut data: BTreeMap<String, Vec<Vec<(f64, f64)>>> = BTreeMap::new();
+    for record in reader.records() {
+        let record = record?;
+        let Ok(x) = record[xi].trim().parse::<f64>() else { continue };
+        let label = gis
+            .iter()
+            .zip(&plot.groups)
+            .map(|(&g, name)| format!("{name}={}", record[g].trim()))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let entry = data.entry(label).or_insert_with(|| vec![Vec::new(); yis.len()]);
+        for (k, &yi) in yis.iter().enumerate() {
+            if let Ok(y) = record[yi].trim().parse::<f64>() {
+                if x.is_finite() && y.is_finite() {
+                    entry[k].push((x, y));
+                }
+            }
+        }
+    }
+    let mut owned: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
+    for (label, per_y) in &data {
+        for (k, points) in per_y.iter().enumerate() {
+            let mut points = points.clone();
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let name = match (label.is_empty(), plot.ys.len() > 1) {
+                (true, _) => plot.ys[k].clone(),
+                (false, true) => format!("{} ({label})", plot.ys[k]),
+                (false, false) => label.clone(),
+            };
+            owned.push((
+                name,
+                points.iter().map(|p| p.0).collect(),
+                points.iter().map(|p| p.1).collect(),
+            ));
+        }
+    }
+    let series: Vec<Series> = owned
+        .iter()
+        .map(|(name, xs, ys)| Series::line(name.clone(), xs, ys))
+        .collect();
+    let stem = sweep_csv
+        .parent()
+        .unwrap_or(Path::new("."))
+        .join(plot.file_stem());
+    slosh_io::line_plot(
+        &stem,
+        &PlotSpec::new(title, &plot.x, &plot.ys.join(", ")),
+        &series,
+    )?;
+    Ok(stem)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plot_specs_parse() {
+        let p = SweepPlot::parse("tank_height:max_roof_p,kurihara_at_max:smoothing_steps").unwrap();
+        assert_eq!(p.x, "tank_height");
+        assert_eq!(p.ys, vec!["max_roof_p", "kurihara_at_max"]);
+        assert_eq!(p.groups, vec!["smoothing_steps"]);
+        assert!(SweepPlot::parse("tank_height").is_err());
+        assert_eq!(SweepPlot::parse("a:b:c+d").unwrap().groups, vec!["c", "d"]);
+    }
+
+    #[test]
+    fn draws_grouped_lines_from_a_csv() {
+        let dir = std::env::temp_dir().join("slosh-sweep-plot-test");
+        std::fs::create_dir_all(&dir).unwrap();
+        let csv = dir.join("sweep.csv");
+        std::fs::write(
+            &csv,
+            "tank_height,smoothing_steps,status,max_roof_p\n0.56,8,completed,900\n0.60,8,completed,700\n0.56,20,completed,800\n0.60,20,failed,\n",
+        )
+        .unwrap();
+        let plot = SweepPlot::parse("tank_height:max_roof_p:smoothing_steps").unwrap();
+        let stem = draw(&csv, &plot, "test").unwrap();
+        assert!(stem.with_extension("png").exists());
+    }
+}

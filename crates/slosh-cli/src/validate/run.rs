@@ -1,0 +1,276 @@
+//! Shared machinery of the checks: building the 2D tanks, stepping a simulation with a
+//! horizontal ground acceleration while recording wall elevations and base shear, and small
+//! numerical helpers (interpolation, zero crossings, least squares).
+
+use anyhow::{anyhow, Result};
+use nalgebra::Vector2;
+use slosh_core::loads::base_shear_x;
+use slosh_core::{Simulation, SphParams, PART_ROOF};
+use slosh_geometry::RectTank2;
+use std::path::PathBuf;
+
+/// Gravity of every case (m/s²), the paper's value.
+pub const GRAVITY: f64 = 9.81;
+/// Water density ρ0 (kg/m³).
+pub const RHO: f64 = 1000.0;
+
+/// Options every check group sees.
+pub struct Context {
+    /// Quick subset.
+    pub quick: bool,
+    /// Output folder.
+    pub out: PathBuf,
+    /// Progress lines on stderr.
+    pub verbose: bool,
+}
+
+impl Context {
+    /// A progress line.
+    pub fn say(&self, what: &str) {
+        if self.verbose {
+            eprintln!("    {what}");
+        }
+    }
+}
+
+/// The paper scheme (SPEC §2): the solver's defaults.
+pub fn paper_params() -> SphParams {
+    SphParams::default()
+}
+
+/// A 2D rectangular tank (floor at y = 0, left wall at x = 0) with the paper scheme.
+pub fn rect_sim(
+    width: f64,
+    tank_height: f64,
+    depth: f64,
+    roof: bool,
+    tilt: f64,
+    dx: f64,
+) -> Result<Simulation<2>> {
+    let setup = RectTank2::new(width, tank_height, depth)
+        .with_roof(roof)
+        .with_initial_tilt(tilt)
+        .build(dx)?;
+    Ok(Simulation::new(setup, paper_params())?)
+}
+
+/// Sine ground acceleration a_g = A ω² sin(ω (t − settle)) after `settle` s of gravity only
+/// (tank frame: the liquid feels −a_g, the paper's −A ω² sin ωt).
+#[derive(Clone, Copy, Debug)]
+pub struct SineExcitation {
+    /// Ground displacement amplitude A (m).
+    pub amplitude: f64,
+    /// Circular frequency ω (rad/s).
+    pub omega: f64,
+    /// Settling time before the excitation starts (s).
+    pub settle: f64,
+}
+
+impl SineExcitation {
+    /// No excitation at all.
+    pub fn none() -> Self {
+        SineExcitation {
+            amplitude: 0.0,
+            omega: 1.0,
+            settle: 0.0,
+        }
+    }
+    /// Ground acceleration (m/s²) at simulation time t (s).
+    pub fn ground_accel(&self, t: f64) -> f64 {
+        let te = t - self.settle;
+        if te < 0.0 {
+            0.0
+        } else {
+            self.amplitude * self.omega * self.omega * (self.omega * te).sin()
+        }
+    }
+    /// Amplitude of the body force on the liquid, F in f = F sin ωt' (m/s²): F = −A ω².
+    pub fn body_force_amplitude(&self) -> f64 {
+        -self.amplitude * self.omega * self.omega
+    }
+}
+
+/// Time histories recorded while stepping.
+#[derive(Clone, Debug, Default)]
+pub struct History {
+    /// Sample times (s, simulation time).
+    pub t: Vec<f64>,
+    /// Free-surface elevation at the left-wall gauge (m, above the still level).
+    pub eta_left: Vec<f64>,
+    /// Same at the right-wall gauge (m).
+    pub eta_right: Vec<f64>,
+    /// Times of the time-windowed loads (s).
+    pub load_t: Vec<f64>,
+    /// Base shear along x from the windowed loads, parts "bottom" + "wall" (N/m).
+    pub base_shear: Vec<f64>,
+    /// Particle-steps done (fluid + wall particles × steps).
+    pub particle_steps: f64,
+}
+
+/// A running simulation with its gauges and recorder.
+pub struct Runner {
+    /// The simulation.
+    pub sim: Simulation<2>,
+    /// The excitation.
+    pub excitation: SineExcitation,
+    /// Recorded histories.
+    pub history: History,
+    /// Gauge x positions (m): one lattice spacing inside each side wall, as `slosh run`.
+    pub gauge_x: (f64, f64),
+    /// Still-water level the elevations are measured from (m).
+    pub still_level: f64,
+    /// Interval between elevation samples (s).
+    pub sample_interval: f64,
+    next_sample: f64,
+    roof_part: Option<usize>,
+    last_load_step: Option<u64>,
+}
+
+impl Runner {
+    /// Wraps a simulation; elevations every `sample_interval` s.
+    pub fn new(sim: Simulation<2>, excitation: SineExcitation, sample_interval: f64) -> Self {
+        let (lo, hi) = sim.interior_bounds();
+        let dx = sim.spacing();
+        let roof_part = sim.part_names().iter().position(|n| n == PART_ROOF);
+        let still_level = sim.still_level();
+        Runner {
+            gauge_x: (lo[0] + dx, hi[0] - dx),
+            still_level,
+            sim,
+            excitation,
+            history: History::default(),
+            sample_interval,
+            next_sample: 0.0,
+            roof_part,
+            last_load_step: None,
+        }
+    }
+
+    /// Elevations (m) at the two wall gauges now.
+    pub fn wall_elevations(&self) -> (f64, f64) {
+        let eta = |x: f64| {
+            self.sim
+                .surface_level_at(&[x])
+                .map(|z| z - self.still_level)
+                .unwrap_or(f64::NAN)
+        };
+        (eta(self.gauge_x.0), eta(self.gauge_x.1))
+    }
+
+    /// Steps until simulation time `t_end` (s), calling `hook` after every step.
+    pub fn run_until<F: FnMut(&Runner)>(&mut self, t_end: f64, mut hook: F) -> Result<()> {
+        let n_particles = (self.sim.fluid().position.len() + self.sim.walls().position.len()) as f64;
+        while self.sim.time() < t_end {
+            if self.sim.time() >= self.next_sample - 1e-12 {
+                let (l, r) = self.wall_elevations();
+                self.history.t.push(self.sim.time());
+                self.history.eta_left.push(l);
+                self.history.eta_right.push(r);
+                self.next_sample += self.sample_interval;
+            }
+            let a = self.excitation.ground_accel(self.sim.time());
+            self.sim
+                .step(Vector2::new(a, 0.0))
+                .map_err(|e| anyhow!("the simulation stopped at t = {:.3} s: {e}", self.sim.time()))?;
+            self.history.particle_steps += n_particles;
+            if let Some(c) = self.sim.loads().centred() {
+                if self.last_load_step != Some(c.step) {
+                    self.last_load_step = Some(c.step);
+                    self.history.load_t.push(c.time);
+                    self.history.base_shear.push(base_shear_x(c, self.roof_part));
+                }
+            }
+            hook(self);
+        }
+        Ok(())
+    }
+}
+
+/// Linear interpolation of (xs, ys) at x (xs increasing); NaN outside.
+pub fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> f64 {
+    if xs.is_empty() || x < xs[0] || x > xs[xs.len() - 1] {
+        return f64::NAN;
+    }
+    let k = xs.partition_point(|&v| v <= x);
+    if k == 0 {
+        return ys[0];
+    }
+    if k >= xs.len() {
+        return ys[xs.len() - 1];
+    }
+    let (x0, x1) = (xs[k - 1], xs[k]);
+    let w = if x1 > x0 { (x - x0) / (x1 - x0) } else { 0.0 };
+    ys[k - 1] * (1.0 - w) + ys[k] * w
+}
+
+/// Times of the sign changes of `ys` with hysteresis: a crossing is confirmed only when the
+/// signal reaches beyond ±`band` on the other side, and noisy multiple crossings in between
+/// count once, at the midpoint of the first and last. Returns (time, +1 upward / −1 downward).
+pub fn zero_crossings(ts: &[f64], ys: &[f64], band: f64) -> Vec<(f64, i8)> {
+    let mut out = Vec::new();
+    let mut side = 0i8; // side of the last excursion beyond the band
+    let mut candidates: Option<(f64, f64)> = None; // first and last zero crossing since then
+    let mut last: Option<(f64, f64)> = None;
+    for (&t, &y) in ts.iter().zip(ys) {
+        if !y.is_finite() {
+            continue;
+        }
+        if let Some((t0, y0)) = last {
+            if (y > 0.0) != (y0 > 0.0) {
+                let tc = t0 + (t - t0) * (-y0) / (y - y0);
+                candidates = Some(match candidates {
+                    None => (tc, tc),
+                    Some((first, _)) => (first, tc),
+                });
+            }
+        }
+        let now: i8 = if y > band {
+            1
+        } else if y < -band {
+            -1
+        } else {
+            0
+        };
+        if now != 0 && now != side {
+            if side != 0 {
+                if let Some((first, lastc)) = candidates {
+                    out.push((0.5 * (first + lastc), now));
+                }
+            }
+            side = now;
+            candidates = None;
+        } else if now != 0 {
+            candidates = None;
+        }
+        last = Some((t, y));
+    }
+    out
+}
+
+/// Least-squares slope of y = s·x through the origin and the R² of that fit.
+pub fn slope_through_origin(xs: &[f64], ys: &[f64]) -> (f64, f64) {
+    let sxy: f64 = xs.iter().zip(ys).map(|(x, y)| x * y).sum();
+    let sxx: f64 = xs.iter().map(|x| x * x).sum();
+    let s = sxy / sxx;
+    let mean = ys.iter().sum::<f64>() / ys.len() as f64;
+    let ss_res: f64 = xs.iter().zip(ys).map(|(x, y)| (y - s * x).powi(2)).sum();
+    let ss_tot: f64 = ys.iter().map(|y| (y - mean).powi(2)).sum();
+    (s, 1.0 - ss_res / ss_tot)
+}
+
+/// Largest value of `ys` with `ts` in [t0, t1] and its time; (NaN, NaN) if none.
+pub fn max_in_window(ts: &[f64], ys: &[f64], t0: f64, t1: f64) -> (f64, f64) {
+    let mut best = (f64::NAN, f64::NAN);
+    for (&t, &y) in ts.iter().zip(ys) {
+        if t >= t0 && t <= t1 && y.is_finite() && !(y <= best.0) {
+            best = (y, t);
+        }
+    }
+    best
+}
+
+/// Root mean square of the finite values.
+pub fn rms(ys: &[f64]) -> f64 {
+    let v: Vec<f64> = ys.iter().copied().filter(|y| y.is_finite()).collect();
+    (v.iter().map(|y| y * y).sum::<f64>() / v.len().max(1) as f64).sqrt()
+}

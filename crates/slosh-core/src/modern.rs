@@ -1,0 +1,806 @@
+//! The "modern" step (issue 7): continuity density with δ-SPH diffusion, Adami walls,
+//! symplectic position Verlet, optional particle shifting — each switchable on its own.
+//!
+//! A child module of `sim` (it reaches the simulation's private state). The paper's step
+//! (`SphParams::default()`) never enters this file: `Simulation::step` hands over here only
+//! when [`SphParams::uses_modern_step`] is true, so the paper path stays bit-for-bit as it was.
+//!
+//! Step order here:
+//! 1. re-sort (every few steps);
+//! 2. symplectic: time step from the state at n (v^n, a^{n−½}), predictor to n+½;
+//! 3. re-index; density stage: summation (paper Eq. 19–20) or nothing (continuity: the
+//!    density is integrated), the strain rate of Eq. 5 when μ > 0, the hydrostatic density of
+//!    Fourtakas' diffusion, then the wall pass (dynamic summation or Adami extrapolation);
+//! 4. force pass: momentum (Eq. 8–16) and, with continuity, dρ/dt in the same pair loop;
+//! 5. loads of this state; leap-frog: time step, update; symplectic: corrector;
+//! 6. optional shifting, blow-up checks.
+
+use super::*;
+use crate::params::{BoundaryMethod, DensityDiffusion, DensityMethod, Integrator};
+
+/// Flags and constants of the modern passes, fixed for a run.
+#[derive(Clone, Copy)]
+pub(super) struct ModernConstants {
+    continuity: bool,
+    /// 0: none, 1: Molteni–Colagrossi, 2: Fourtakas.
+    diffusion: u8,
+    /// δ h c0 (m²/s) of the diffusion term.
+    diffusion_coeff: f64,
+    adami: bool,
+    no_slip: bool,
+    symplectic: bool,
+    shifting: Option<f64>,
+    /// 1/γ of the inverse EOS.
+    inv_gamma: f64,
+}
+
+/// Per-run buffers of the modern step, allocated once in `Simulation::new`.
+pub(super) struct ModernState<const D: usize> {
+    pub(super) k: ModernConstants,
+    /// ρ^n, the density at the start of a symplectic step (kg/m³).
+    density_start: Vec<f64>,
+    /// Hydrostatic density ρ_H of Fourtakas' diffusion (kg/m³).
+    hydro_density: Vec<f64>,
+    /// ∇C of the shifting (1/m) and the kernel sum Σ V_j W_ij.
+    shift_gradient: Vec<Vector<D>>,
+    shift_kernel_sum: Vec<f64>,
+    /// Wall velocity seen by the fluid with no-slip Adami walls (m/s).
+    wall_velocity: Vec<Vector<D>>,
+    wall_pressure_next: Vec<f64>,
+}
+
+impl<const D: usize> ModernState<D> {
+    pub(super) fn new(params: &SphParams, h: f64, c0: f64, n: usize, n_wall: usize) -> Self {
+        let (diffusion, delta) = match params.density_diffusion {
+            DensityDiffusion::None => (0, 0.0),
+            DensityDiffusion::MolteniColagrossi { delta } => (1, delta),
+            DensityDiffusion::Fourtakas { delta } => (2, delta),
+        };
+        let continuity = params.density == DensityMethod::Continuity;
+        let k = ModernConstants {
+            continuity,
+            diffusion: if continuity && delta > 0.0 { diffusion } else { 0 },
+            diffusion_coeff: delta * h * c0,
+            adami: params.boundary == BoundaryMethod::Adami,
+            no_slip: params.wall_no_slip,
+            symplectic: params.integrator == Integrator::Symplectic,
+            shifting: params.shifting.filter(|a| *a > 0.0),
+            inv_gamma: 1.0 / params.eos_gamma,
+        };
+        let shift_len = if k.shifting.is_some() { n } else { 0 };
+        ModernState {
+            k,
+            density_start: vec![params.rest_density; if k.symplectic { n } else { 0 }],
+            hydro_density: vec![params.rest_density; if k.diffusion == 2 { n } else { 0 }],
+            shift_gradient: vec![Vector::<D>::zeros(); shift_len],
+            shift_kernel_sum: vec![1.0; shift_len],
+            wall_velocity: vec![Vector::<D>::zeros(); if k.no_slip { n_wall } else { 0 }],
+            wall_pressure_next: vec![0.0; n_wall],
+        }
+    }
+}
+
+impl PassConstants {
+    /// Inverse of the Tait EOS (Eq. 18): ρ = ρ0 (1 + p/B)^(1/γ).
+    #[inline(always)]
+    fn density_of(&self, pressure: f64, inv_gamma: f64) -> f64 {
+        self.rest_density * (1.0 + pressure / self.eos_stiffness).max(1e-6).powf(inv_gamma)
+    }
+}
+
+/// Hydrostatic Tait density at depth d below the level z_s: ρ0 (1 + ρ0 g d / B)^(1/γ).
+#[inline(always)]
+fn hydrostatic_density(c: &PassConstants, g: f64, inv_gamma: f64, depth: f64) -> f64 {
+    c.density_of(c.rest_density * g * depth, inv_gamma)
+}
+
+impl<const D: usize> Simulation<D> {
+    /// Initial state of a modern run: with continuity density the fluid starts at the
+    /// hydrostatic density of its depth below the fill level (no settling pressure wave).
+    pub(super) fn modern_init(&mut self) {
+        let Some(st) = &self.modern else { return };
+        let k = st.k;
+        let c = self.constants;
+        if k.continuity {
+            let (g, level) = (self.params.gravity, self.fill_level);
+            for ((rho, inv), (x, p)) in self
+                .fluid
+                .density
+                .iter_mut()
+                .zip(self.fluid.inverse_density.iter_mut())
+                .zip(self.fluid.position.iter().zip(self.fluid.pressure.iter_mut()))
+            {
+                *rho = hydrostatic_density(&c, g, k.inv_gamma, (level - x[D - 1]).max(0.0));
+                *inv = 1.0 / *rho;
+                *p = c.pressure(*rho);
+            }
+        }
+        let mut body = Vector::<D>::zeros();
+        body[D - 1] = -self.params.gravity;
+        self.modern_density_stage(body);
+    }
+
+    /// One time step of the modern scheme (see the module notes).
+    pub(super) fn step_modern(&mut self, ground_accel: Vector<D>) -> Result<(), SimError> {
+        let k = self.modern.as_ref().expect("modern state").k;
+        let clock = std::time::Instant::now();
+        let reorder = self.params.reorder_interval;
+        if reorder > 0 && self.step > 0 && self.step.is_multiple_of(reorder as u64) {
+            self.sort_by_cell();
+        }
+        let mut body_force = -ground_accel;
+        body_force[D - 1] -= self.params.gravity;
+
+        let mut dt = 0.0;
+        if k.symplectic {
+            dt = self.modern_time_step();
+            self.symplectic_predictor(dt);
+        }
+        let t1 = std::time::Instant::now();
+        if self.step > 0 || k.symplectic {
+            self.rebuild_search();
+            let t_search = std::time::Instant::now();
+            self.phase_times.neighbour_search += (t_search - clock).as_secs_f64();
+            self.modern_density_stage(body_force);
+            self.phase_times.density += t_search.elapsed().as_secs_f64();
+        } else {
+            self.phase_times.integration += (t1 - clock).as_secs_f64();
+        }
+        let t2 = std::time::Instant::now();
+        self.modern_forces(body_force);
+        let t3 = std::time::Instant::now();
+        self.phase_times.forces += (t3 - t2).as_secs_f64();
+        let load_time = if k.symplectic {
+            self.time + 0.5 * dt
+        } else {
+            self.time
+        };
+        self.record_loads_at(body_force, load_time);
+        let t4 = std::time::Instant::now();
+        self.phase_times.loads += (t4 - t3).as_secs_f64();
+
+        if k.symplectic {
+            self.symplectic_corrector(dt);
+            self.apply_shifting(dt);
+            self.check_particles(dt)?;
+        } else {
+            dt = self.modern_time_step();
+            self.integrate(dt, self.dt_previous)?;
+            if k.continuity {
+                self.continuity_euler(dt);
+            }
+            self.apply_shifting(dt);
+        }
+        self.dt_previous = dt;
+        self.dt_last = dt;
+        self.time += dt;
+        self.step += 1;
+        self.phase_times.integration += t4.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Acoustic and force CFL bounds (SPEC §4 item 2) from the current velocities and the
+    /// last accelerations, or the fixed dt; updates the statistics.
+    fn modern_time_step(&mut self) -> f64 {
+        let (max_speed, max_accel) = self.max_speed_and_acceleration();
+        let h = self.constants.kernel.h;
+        let c = self.params.cfl_number;
+        let acoustic = c * h / (self.sound_speed + max_speed);
+        let force = if max_accel > 0.0 {
+            c * (h / max_accel).sqrt()
+        } else {
+            f64::INFINITY
+        };
+        // Viscous bound dt ≤ C h² ρ0/μ of the Newtonian term (Morris et al. 1997, with C the
+        // Courant number in place of their 0.125): never active for water at this scale.
+        let viscous = if self.params.dynamic_viscosity > 0.0 {
+            c * h * h * self.params.rest_density / self.params.dynamic_viscosity
+        } else {
+            f64::INFINITY
+        };
+        let bound = acoustic.min(force).min(viscous);
+        self.stats.dt_bound_min = self.stats.dt_bound_min.min(bound);
+        let dt = match self.params.fixed_dt {
+            Some(dt) => {
+                if dt > bound {
+                    self.stats.steps_above_bound += 1;
+                }
+                dt
+            }
+            None => bound,
+        };
+        self.stats.dt_min = self.stats.dt_min.min(dt);
+        self.stats.dt_max = self.stats.dt_max.max(dt);
+        dt
+    }
+
+    /// Symplectic predictor: x^{n+½} = x^n + dt/2 v^n; the mid-step velocity estimate
+    /// v^n + dt/2 a^{n−½} for the velocity-dependent terms (artificial viscosity, strain rate,
+    /// dρ/dt); with continuity ρ^{n+½} = ρ^n + dt/2 Dρ, Dρ the latest rate (that of n−½: one
+    /// pair loop per step, an O(dt²) difference in the mid-step pressure only).
+    /// Afterwards `velocity` holds the mid-step estimate and `velocity_half` holds v^n.
+    fn symplectic_predictor(&mut self, dt: f64) {
+        let half = 0.5 * dt;
+        let st = self.modern.as_mut().expect("modern state");
+        self.fluid
+            .position
+            .par_iter_mut()
+            .zip(self.fluid.velocity_half.par_iter_mut())
+            .zip(self.fluid.velocity.par_iter())
+            .zip(self.fluid.acceleration.par_iter())
+            .with_min_len(PAR_CHUNK)
+            .for_each(|(((x, vh), v), a)| {
+                *x += half * v;
+                *vh = v + half * a;
+            });
+        std::mem::swap(&mut self.fluid.velocity, &mut self.fluid.velocity_half);
+        if st.k.continuity {
+            let c = self.constants;
+            self.fluid
+                .density
+                .par_iter_mut()
+                .zip(self.fluid.inverse_density.par_iter_mut())
+                .zip(self.fluid.pressure.par_iter_mut())
+                .zip(st.density_start.par_iter_mut())
+                .zip(self.fluid.density_rate.par_iter())
+                .with_min_len(PAR_CHUNK)
+                .for_each(|((((rho, inv), p), rho0), &drho)| {
+                    *rho0 = *rho;
+                    *rho += half * drho;
+                    *inv = 1.0 / *rho;
+                    *p = c.pressure(*rho);
+                });
+        }
+    }
+
+    /// Symplectic corrector: v^{n+1} = v^n + dt a^{n+½}; x^{n+1} = x^{n+½} + dt/2 v^{n+1};
+    /// ρ^{n+1} = ρ^n (2 − ε)/(2 + ε), ε = −(Dρ^{n+½}/ρ^{n+½}) dt (DualSPHysics' symplectic,
+    /// Domínguez et al. 2022 Eq. 20–22). `velocity_half` keeps the mid-step estimate.
+    fn symplectic_corrector(&mut self, dt: f64) {
+        let half = 0.5 * dt;
+        let st = self.modern.as_mut().expect("modern state");
+        std::mem::swap(&mut self.fluid.velocity, &mut self.fluid.velocity_half);
+        self.fluid
+            .position
+            .par_iter_mut()
+            .zip(self.fluid.velocity.par_iter_mut())
+            .zip(self.fluid.acceleration.par_iter())
+            .with_min_len(PAR_CHUNK)
+            .for_each(|((x, v), a)| {
+                *v += dt * a;
+                *x += half * *v;
+            });
+        if st.k.continuity {
+            let c = self.constants;
+            self.fluid
+                .density
+                .par_iter_mut()
+                .zip(self.fluid.inverse_density.par_iter_mut())
+                .zip(self.fluid.pressure.par_iter_mut())
+                .zip(st.density_start.par_iter())
+                .zip(self.fluid.density_rate.par_iter())
+                .with_min_len(PAR_CHUNK)
+                .for_each(|((((rho, inv), p), &rho_n), &drho)| {
+                    let eps = -drho * *inv * dt;
+                    *rho = rho_n * (2.0 - eps) / (2.0 + eps);
+                    *inv = 1.0 / *rho;
+                    *p = c.pressure(*rho);
+                });
+        }
+    }
+
+    /// Leap-frog with continuity density: ρ(t + dt) = ρ(t) + dt Dρ(t), then the EOS.
+    fn continuity_euler(&mut self, dt: f64) {
+        let c = self.constants;
+        self.fluid
+            .density
+            .par_iter_mut()
+            .zip(self.fluid.inverse_density.par_iter_mut())
+            .zip(self.fluid.pressure.par_iter_mut())
+            .zip(self.fluid.density_rate.par_iter())
+            .with_min_len(PAR_CHUNK)
+            .for_each(|(((rho, inv), p), &drho)| {
+                *rho += dt * drho;
+                *inv = 1.0 / *rho;
+                *p = c.pressure(*rho);
+            });
+    }
+
+    /// Particle shifting (Lind et al. 2012; the |v| dt scaling of Skillen et al. 2013):
+    /// δx_i = −A h |v_i| dt ∇C_i, capped at 0.1 dx, skipped near the free surface.
+    fn apply_shifting(&mut self, dt: f64) {
+        let st = self.modern.as_ref().expect("modern state");
+        let Some(a) = st.k.shifting else { return };
+        let scale = a * self.constants.kernel.h * dt;
+        let cap = 0.1 * self.spacing;
+        let threshold = self.params.free_surface_threshold;
+        self.fluid
+            .position
+            .par_iter_mut()
+            .zip(self.fluid.velocity.par_iter())
+            .zip(st.shift_gradient.par_iter())
+            .zip(st.shift_kernel_sum.par_iter())
+            .with_min_len(PAR_CHUNK)
+            .for_each(|(((x, v), grad), &ksum)| {
+                if ksum >= threshold {
+                    let mut dx = grad * (-scale * v.norm());
+                    let len = dx.norm();
+                    if len > cap {
+                        dx *= cap / len;
+                    }
+                    *x += dx;
+                }
+            });
+    }
+
+    /// Non-finite and out-of-domain checks after a symplectic update.
+    fn check_particles(&self, dt: f64) -> Result<(), SimError> {
+        let lo = self.domain_min;
+        let hi = self.domain_max;
+        let (bad, outside, first_out) = self
+            .fluid
+            .position
+            .par_iter()
+            .zip(self.fluid.velocity.par_iter())
+            .with_min_len(PAR_CHUNK)
+            .map(|(x, v)| {
+                if !x.iter().chain(v.iter()).all(|c| c.is_finite()) {
+                    return (1usize, 0usize, None);
+                }
+                if (0..D).all(|k| x[k] >= lo[k] && x[k] <= hi[k]) {
+                    (0, 0, None)
+                } else {
+                    (0, 1, Some(*x))
+                }
+            })
+            .reduce(|| (0, 0, None), |a, b| (a.0 + b.0, a.1 + b.1, a.2.or(b.2)));
+        if bad > 0 {
+            return Err(SimError::NonFinite {
+                time: self.time + dt,
+                step: self.step + 1,
+                count: bad,
+            });
+        }
+        if outside > 0 {
+            let p = first_out.unwrap_or_else(Vector::<D>::zeros);
+            return Err(SimError::LeftDomain {
+                time: self.time + dt,
+                step: self.step + 1,
+                count: outside,
+                position: format!("{:?} m", p.as_slice()),
+            });
+        }
+        Ok(())
+    }
+
+    /// Density stage: summation (Eq. 19–20, the paper's pass, which also sums the dynamic
+    /// walls) or, with continuity, the strain rate of Eq. 5 alone (when μ > 0); then the
+    /// hydrostatic density of Fourtakas' diffusion and the wall pass.
+    fn modern_density_stage(&mut self, body_force: Vector<D>) {
+        let st = self.modern.as_mut().expect("modern state");
+        let k = st.k;
+        let c = self.constants;
+        if !k.continuity {
+            match &self.search {
+                Search::Grid(s) => density_pass(
+                    s,
+                    &c,
+                    &mut self.fluid,
+                    &mut self.walls,
+                    &mut self.next_density,
+                    &mut self.next_wall_density,
+                ),
+                Search::KdTree(s) => density_pass(
+                    s,
+                    &c,
+                    &mut self.fluid,
+                    &mut self.walls,
+                    &mut self.next_density,
+                    &mut self.next_wall_density,
+                ),
+            }
+        } else if c.viscosity > 0.0 {
+            match &self.search {
+                Search::Grid(s) => strain_pass(s, &c, &mut self.fluid),
+                Search::KdTree(s) => strain_pass(s, &c, &mut self.fluid),
+            }
+        }
+        if k.diffusion == 2 {
+            let (g, level) = (self.params.gravity, self.still_level_cached);
+            st.hydro_density
+                .par_iter_mut()
+                .zip(self.fluid.position.par_iter())
+                .with_min_len(PAR_CHUNK)
+                .for_each(|(rho_h, x)| {
+                    *rho_h = hydrostatic_density(&c, g, k.inv_gamma, level - x[D - 1]);
+                });
+        }
+        if k.continuity || k.adami {
+            match &self.search {
+                Search::Grid(s) => wall_pass(
+                    s,
+                    &c,
+                    &k,
+                    &mut self.fluid,
+                    &mut self.walls,
+                    &mut self.next_wall_density,
+                    st,
+                    body_force,
+                ),
+                Search::KdTree(s) => wall_pass(
+                    s,
+                    &c,
+                    &k,
+                    &mut self.fluid,
+                    &mut self.walls,
+                    &mut self.next_wall_density,
+                    st,
+                    body_force,
+                ),
+            }
+        }
+    }
+
+    fn modern_forces(&mut self, body_force: Vector<D>) {
+        let c = self.constants;
+        let st = self.modern.as_mut().expect("modern state");
+        match &self.search {
+            Search::Grid(s) => modern_force_pass(s, &c, &mut self.fluid, &self.walls, st, body_force),
+            Search::KdTree(s) => {
+                modern_force_pass(s, &c, &mut self.fluid, &self.walls, st, body_force)
+            }
+        }
+    }
+}
+
+/// Strain rate V of Eq. 4–5 over the fluid neighbours (the continuity path's share of the
+/// paper's density pass).
+fn strain_pass<const D: usize, S: NeighbourSearch<D>>(
+    search: &S,
+    c: &PassConstants,
+    fluid: &mut Fluid<D>,
+) {
+    let kernel = c.kernel;
+    let m = c.mass;
+    let pos = &fluid.position;
+    let vel = &fluid.velocity;
+    let inv_rho = &fluid.inverse_density;
+    fluid
+        .strain_rate
+        .par_iter_mut()
+        .enumerate()
+        .with_min_len(PAR_CHUNK)
+        .for_each(|(i, strain_out)| {
+            let xi = pos[i];
+            let vi = vel[i];
+            let mut grad_v = Tensor::<D>::zeros();
+            search.for_each_fluid_candidate(&xi, |j| {
+                let xij = xi - pos[j];
+                let r2 = xij.norm_squared();
+                if r2 < c.support_sq && j != i {
+                    let r = r2.sqrt();
+                    let grad_w = xij * kernel.gradient_factor(r);
+                    grad_v += (vel[j] - vi) * (grad_w * (m * inv_rho[j])).transpose();
+                }
+            });
+            // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
+            let trace = grad_v.trace();
+            let mut v_tensor = grad_v + grad_v.transpose();
+            for k in 0..D {
+                v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
+            }
+            *strain_out = v_tensor;
+        });
+}
+
+/// Wall pass of the modern step: dynamic walls (summation density with the Eq. 20 reset,
+/// EOS) or Adami's extrapolated pressure; the nearest fluid particle of each wall particle
+/// (for the paper's load evaluation) and, for no-slip Adami walls, the mirrored velocity.
+#[allow(clippy::too_many_arguments)]
+fn wall_pass<const D: usize, S: NeighbourSearch<D>>(
+    search: &S,
+    c: &PassConstants,
+    k: &ModernConstants,
+    fluid: &mut Fluid<D>,
+    walls: &mut Walls<D>,
+    next_wall_density: &mut [f64],
+    st: &mut ModernState<D>,
+    body_force: Vector<D>,
+) {
+    let kernel = c.kernel;
+    let m = c.mass;
+    let pos = &fluid.position;
+    let vel = &fluid.velocity;
+    let rho = &fluid.density;
+    let inv_rho = &fluid.inverse_density;
+    let p = &fluid.pressure;
+    let wall_pos = &walls.position;
+    let wall_inv_rho = &walls.inverse_density;
+    let adami = k.adami;
+    let no_slip = k.no_slip;
+    let mut dummy: [Vector<D>; 0] = [];
+    let wall_vel: &mut [Vector<D>] = if no_slip {
+        &mut st.wall_velocity
+    } else {
+        &mut dummy
+    };
+    let fill = |w_i: usize,
+                rho_out: &mut f64,
+                p_out: &mut f64,
+                nearest_out: &mut u32,
+                vel_out: Option<&mut Vector<D>>| {
+        let xw = wall_pos[w_i];
+        let mut nearest = (f64::INFINITY, u32::MAX);
+        if adami {
+            // Adami, Hu & Adams (2012) Eq. 27 (and Eq. 22 for the velocity).
+            let (mut sum_w, mut sum_pw) = (0.0, 0.0);
+            let mut sum_rx = Vector::<D>::zeros();
+            let mut sum_v = Vector::<D>::zeros();
+            search.for_each_fluid_candidate(&xw, |j| {
+                let d = xw - pos[j];
+                let r2 = d.norm_squared();
+                if r2 < c.support_sq {
+                    let w = kernel.value(r2.sqrt());
+                    sum_w += w;
+                    sum_pw += p[j] * w;
+                    sum_rx += d * (rho[j] * w);
+                    if no_slip {
+                        sum_v += vel[j] * w;
+                    }
+                    if r2 < nearest.0 {
+                        nearest = (r2, j as u32);
+                    }
+                }
+            });
+            if sum_w > 1e-12 {
+                let mut pw = (sum_pw + body_force.dot(&sum_rx)) / sum_w;
+                if c.clamp_negative {
+                    pw = pw.max(0.0);
+                }
+                *p_out = pw;
+                *rho_out = c.density_of(pw, k.inv_gamma);
+                if let Some(v) = vel_out {
+                    // No-slip: v_w = 2 v_wall − ṽ_w with the wall at rest in the tank frame.
+                    *v = -sum_v / sum_w;
+                }
+            } else {
+                *p_out = 0.0;
+                *rho_out = c.rest_density;
+                if let Some(v) = vel_out {
+                    *v = Vector::<D>::zeros();
+                }
+            }
+        } else {
+            // Dynamic walls: Eq. 19 with the Eq. 20 reset, then Eq. 18.
+            let mut rho_sum = 0.0;
+            let mut kernel_sum = 0.0;
+            search.for_each_fluid_candidate(&xw, |j| {
+                let r2 = (xw - pos[j]).norm_squared();
+                if r2 < c.support_sq {
+                    let w = kernel.value(r2.sqrt());
+                    rho_sum += m * w;
+                    kernel_sum += m * inv_rho[j] * w;
+                    if r2 < nearest.0 {
+                        nearest = (r2, j as u32);
+                    }
+                }
+            });
+            search.for_each_wall_candidate(&xw, |kk| {
+                let r2 = (xw - wall_pos[kk]).norm_squared();
+                if r2 < c.support_sq {
+                    let w = kernel.value(r2.sqrt());
+                    rho_sum += m * w;
+                    kernel_sum += m * wall_inv_rho[kk] * w;
+                }
+            });
+            let r = if kernel_sum < c.free_surface_threshold {
+                c.rest_density
+            } else {
+                rho_sum
+            };
+            *rho_out = r;
+            *p_out = c.pressure(r);
+        }
+        *nearest_out = nearest.1;
+    };
+    if no_slip {
+        next_wall_density
+            .par_iter_mut()
+            .zip(st.wall_pressure_next.par_iter_mut())
+            .zip(walls.nearest_fluid.par_iter_mut())
+            .zip(wall_vel.par_iter_mut())
+            .enumerate()
+            .with_min_len(PAR_CHUNK)
+            .for_each(|(w_i, (((r, pw), nf), v))| fill(w_i, r, pw, nf, Some(v)));
+    } else {
+        next_wall_density
+            .par_iter_mut()
+            .zip(st.wall_pressure_next.par_iter_mut())
+            .zip(walls.nearest_fluid.par_iter_mut())
+            .enumerate()
+            .with_min_len(PAR_CHUNK)
+            .for_each(|(w_i, ((r, pw), nf))| fill(w_i, r, pw, nf, None));
+    }
+    walls
+        .density
+        .par_iter_mut()
+        .zip(walls.inverse_density.par_iter_mut())
+        .zip(walls.pressure.par_iter_mut())
+        .zip(next_wall_density.par_iter())
+        .zip(st.wall_pressure_next.par_iter())
+        .with_min_len(PAR_CHUNK)
+        .for_each(|((((rho_w, inv), p_w), &r), &pn)| {
+            *rho_w = r;
+            *inv = 1.0 / r;
+            *p_w = pn;
+        });
+}
+
+/// Force pass of the modern step: the momentum equation of the paper (Eq. 8–16) with the
+/// wall treatment chosen, and in the same pair loop the continuity equation
+/// dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij (Monaghan 1992; walls at rest) with the δ-SPH
+/// diffusion term (Molteni & Colagrossi 2009; Fourtakas et al. 2019), and the shifting
+/// gradient ∇C_i = Σ_j V_j ∇_i W_ij.
+fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
+    search: &S,
+    c: &PassConstants,
+    fluid: &mut Fluid<D>,
+    walls: &Walls<D>,
+    st: &mut ModernState<D>,
+    body_force: Vector<D>,
+) {
+    let k = st.k;
+    let kernel = c.kernel;
+    let m = c.mass;
+    let h = kernel.h;
+    let eps_h2 = 0.01 * h * h; // φ of Eq. 11
+    let pos = &fluid.position;
+    let vel = &fluid.velocity;
+    let rho = &fluid.density;
+    let inv_rho = &fluid.inverse_density;
+    let p = &fluid.pressure;
+    let strain = &fluid.strain_rate;
+    let rho_h = &st.hydro_density;
+    let wall_vel = &st.wall_velocity;
+    let viscous = c.viscosity > 0.0;
+    let av_on = c.av_alpha > 0.0 || c.av_beta > 0.0;
+    let continuity = k.continuity;
+    let diffusion = k.diffusion;
+    // ψ_ij·∇_i W_ij = 2 (ρ_j − ρ_i) x_ji·x_ij F/r² = −2 (ρ_j − ρ_i) F, F = (dW/dr)/r.
+    let diff_coeff = -2.0 * k.diffusion_coeff;
+    let shifting = k.shifting.is_some();
+    // Walls in the artificial viscosity and the viscous term: dynamic walls as the paper
+    // (wall at rest), Adami free-slip none, Adami no-slip the mirrored velocity.
+    let wall_av = av_on && (!k.adami || k.no_slip);
+    let wall_viscous = viscous && (!k.adami || k.no_slip);
+    let mirrored = k.adami && k.no_slip;
+    // Eq. 10: Π_ij = (−α c̄ φ + β φ²)/ρ̄ for approaching pairs, 0 otherwise.
+    let artificial_viscosity = |vij: Vector<D>, xij: Vector<D>, r2: f64, rho_mean: f64| -> f64 {
+        let v_dot_x = vij.dot(&xij);
+        if v_dot_x < 0.0 {
+            let phi = h * v_dot_x / (r2 + eps_h2); // Eq. 11
+            (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) / rho_mean
+        } else {
+            0.0
+        }
+    };
+    let mut no_vec: [Vector<D>; 0] = [];
+    let mut no_f64: [f64; 0] = [];
+    let (shift_grad, shift_ksum): (&mut [Vector<D>], &mut [f64]) = if shifting {
+        (&mut st.shift_gradient, &mut st.shift_kernel_sum)
+    } else {
+        (&mut no_vec, &mut no_f64)
+    };
+    let pair_loop = |i: usize, acc_out: &mut Vector<D>, drho_out: &mut f64| -> (Vector<D>, f64) {
+        let xi = pos[i];
+        let vi = vel[i];
+        let rho_i = rho[i];
+        let inv_rho_i = inv_rho[i];
+        let p_i = p[i];
+        let strain_i = strain[i];
+        let rho_dyn_i = if diffusion == 2 { rho_i - rho_h[i] } else { rho_i };
+        let mut acc = Vector::<D>::zeros();
+        let mut drho = 0.0;
+        let mut grad_c = Vector::<D>::zeros();
+        let mut ksum = 0.0;
+        search.for_each_fluid_candidate(&xi, |j| {
+            if j == i {
+                if shifting {
+                    ksum += m * inv_rho_i * kernel.value(0.0);
+                }
+                return;
+            }
+            let xij = xi - pos[j];
+            let r2 = xij.norm_squared();
+            if r2 >= c.support_sq {
+                return;
+            }
+            let r = r2.sqrt();
+            let f = kernel.gradient_factor(r);
+            let grad_w = xij * f;
+            let rho_j = rho[j];
+            let inv_rho_j = inv_rho[j];
+            let inv_rho_ij = inv_rho_i * inv_rho_j;
+            let vij = vi - vel[j];
+            // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
+            let mut scalar = -(p_i + p[j]) * inv_rho_ij;
+            if av_on {
+                scalar -= artificial_viscosity(vij, xij, r2, 0.5 * (rho_i + rho_j));
+            }
+            acc += grad_w * (m * scalar);
+            if viscous {
+                // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W (Eq. 8, 3).
+                acc += (strain_i + strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
+            }
+            if continuity {
+                drho += m * vij.dot(&grad_w);
+                if diffusion != 0 {
+                    let rho_dyn_j = if diffusion == 2 { rho_j - rho_h[j] } else { rho_j };
+                    drho += diff_coeff * (rho_dyn_j - rho_dyn_i) * f * m * inv_rho_j;
+                }
+            }
+            if shifting {
+                grad_c += grad_w * (m * inv_rho_j);
+                ksum += m * inv_rho_j * kernel.value(r);
+            }
+        });
+        let wall_pos = &walls.position;
+        let wall_rho = &walls.density;
+        let wall_inv_rho = &walls.inverse_density;
+        let wall_p = &walls.pressure;
+        search.for_each_wall_candidate(&xi, |w| {
+            let xiw = xi - wall_pos[w];
+            let r2 = xiw.norm_squared();
+            if r2 >= c.support_sq {
+                return;
+            }
+            let r = r2.sqrt();
+            let grad_w = xiw * kernel.gradient_factor(r);
+            let inv_rho_iw = inv_rho_i * wall_inv_rho[w];
+            let mut scalar = -(p_i + wall_p[w]) * inv_rho_iw;
+            if wall_av {
+                let v_w = if mirrored { wall_vel[w] } else { Vector::<D>::zeros() };
+                scalar -= artificial_viscosity(vi - v_w, xiw, r2, 0.5 * (rho_i + wall_rho[w]));
+            }
+            acc += grad_w * (m * scalar);
+            if wall_viscous {
+                acc += strain_i * grad_w * (m * c.viscosity * inv_rho_iw);
+            }
+            if continuity {
+                drho += m * vi.dot(&grad_w);
+            }
+            if shifting {
+                grad_c += grad_w * (m * wall_inv_rho[w]);
+                ksum += m * wall_inv_rho[w] * kernel.value(r);
+            }
+        });
+        *acc_out = acc + body_force;
+        *drho_out = drho;
+        (grad_c, ksum)
+    };
+    if shifting {
+        fluid
+            .acceleration
+            .par_iter_mut()
+            .zip(fluid.density_rate.par_iter_mut())
+            .zip(shift_grad.par_iter_mut())
+            .zip(shift_ksum.par_iter_mut())
+            .enumerate()
+            .with_min_len(PAR_CHUNK)
+            .for_each(|(i, (((acc, drho), g), ks))| {
+                let (gc, s) = pair_loop(i, acc, drho);
+                *g = gc;
+                *ks = s;
+            });
+    } else {
+        fluid
+            .acceleration
+            .par_iter_mut()
+            .zip(fluid.density_rate.par_iter_mut())
+            .enumerate()
+            .with_min_len(PAR_CHUNK)
+            .for_each(|(i, (acc, drho))| {
+                pair_loop(i, acc, drho);
+            });
+    }
+}
