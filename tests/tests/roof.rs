@@ -20,7 +20,10 @@ fn roof_impact_at_the_paper_time() {
     assert!((1.3..=2.0).contains(&after), "peak at {after} s");
     assert!(!s.impacts.is_empty());
     for key in ["roof_impulse", "time_above_threshold", "peak_over_kurihara"] {
-        assert!(s.post.iter().any(|(k, _)| k == key), "post result {key} missing");
+        assert!(
+            s.post.iter().any(|(k, _)| k == key),
+            "post result {key} missing"
+        );
     }
     assert!(out.join("roof_pressure.csv").exists());
 }
@@ -29,8 +32,18 @@ fn roof_impact_at_the_paper_time() {
 /// one (0.66 m).
 #[test]
 fn peak_roof_force_decreases_with_tank_height() {
-    let low = run_script("paper_2d_roof.rhai", &["tank_height=0.56"], &out_dir("roof_0.56")).unwrap();
-    let high = run_script("paper_2d_roof.rhai", &["tank_height=0.66"], &out_dir("roof_0.66")).unwrap();
+    let low = run_script(
+        "paper_2d_roof.rhai",
+        &["tank_height=0.56"],
+        &out_dir("roof_0.56"),
+    )
+    .unwrap();
+    let high = run_script(
+        "paper_2d_roof.rhai",
+        &["tank_height=0.66"],
+        &out_dir("roof_0.66"),
+    )
+    .unwrap();
     eprintln!(
         "peak roof force: 0.56 m → {:.1} N/m, 0.66 m → {:.1} N/m",
         low.max_roof_force_up, high.max_roof_force_up
@@ -42,8 +55,18 @@ fn peak_roof_force_decreases_with_tank_height() {
 /// as high as a larger one (±40 steps) on the same flow.
 #[test]
 fn smaller_window_gives_higher_peak_pressure() {
-    let narrow = run_script("paper_2d_roof.rhai", &["smoothing_steps=8"], &out_dir("roof_w8")).unwrap();
-    let wide = run_script("paper_2d_roof.rhai", &["smoothing_steps=40"], &out_dir("roof_w40")).unwrap();
+    let narrow = run_script(
+        "paper_2d_roof.rhai",
+        &["smoothing_steps=8"],
+        &out_dir("roof_w8"),
+    )
+    .unwrap();
+    let wide = run_script(
+        "paper_2d_roof.rhai",
+        &["smoothing_steps=40"],
+        &out_dir("roof_w40"),
+    )
+    .unwrap();
     eprintln!(
         "peak roof pressure: ±8 steps {:.0} Pa, ±40 steps {:.0} Pa",
         narrow.max_roof_p, wide.max_roof_p
@@ -52,14 +75,29 @@ fn smaller_window_gives_higher_peak_pressure() {
 }
 
 /// Fig. 10 trend: at the same clearance H'/H = 0.2, the wider tank (1.0 m) carries a larger
-/// peak roof force than the narrower one (0.5 m), each excited at its first mode.
+/// peak roof force than the narrower one (0.5 m), each excited at its first mode. The paper
+/// compares maxima over runs of up to 50 s, once both tanks hit the roof repeatedly; to keep
+/// the run short the amplitude is the §3.2 one (0.0279 m), so both crests reach the roof
+/// within ≈ 1.2 s and 4 s of excitation cover several impacts in each tank.
 #[test]
 fn wider_tank_carries_larger_roof_force() {
-    let sets = |w: &str| vec![format!("width={w}"), "duration=7".to_string(), "clearance_ratio=0.2".to_string()];
+    let sets = |w: &str| {
+        vec![
+            format!("width={w}"),
+            "duration=6".to_string(),
+            "amplitude=0.0279".to_string(),
+            "clearance_ratio=0.2".to_string(),
+        ]
+    };
     let run = |w: &str| {
         let s = sets(w);
         let s: Vec<&str> = s.iter().map(|x| x.as_str()).collect();
-        run_script("paper_2d_roof_sweep.rhai", &s, &out_dir(&format!("roof_width_{w}"))).unwrap()
+        run_script(
+            "paper_2d_roof_sweep.rhai",
+            &s,
+            &out_dir(&format!("roof_width_{w}")),
+        )
+        .unwrap()
     };
     let narrow = run("0.5");
     let wide = run("1.0");

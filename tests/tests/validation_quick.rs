@@ -19,7 +19,11 @@ fn quick_validation_suite_passes() {
     for (_, group) in &report.groups {
         for plot in &group.plots {
             assert!(out.join(&plot.file).exists(), "plot {} missing", plot.file);
-            assert!(md.contains(&plot.file), "report does not show {}", plot.file);
+            assert!(
+                md.contains(&plot.file),
+                "report does not show {}",
+                plot.file
+            );
         }
     }
     // Every group the issue asks for is there with numbers.
@@ -35,15 +39,27 @@ fn quick_validation_suite_passes() {
         "Resolution study",
     ] {
         assert!(
-            report.groups.iter().any(|(t, g)| t.contains(title) && !g.checks.is_empty()),
+            report
+                .groups
+                .iter()
+                .any(|(t, g)| t.contains(title) && !g.checks.is_empty()),
             "group {title} missing"
         );
     }
     let failures: Vec<String> = report
         .checks()
         .filter(|c| c.verdict == Verdict::Fail)
-        .map(|c| format!("{} / {}: {} vs {} ({}, tolerance {}) — {}", c.group, c.name, c.measured, c.reference, c.error, c.tolerance, c.reason))
+        .map(|c| {
+            format!(
+                "{} / {}: {} vs {} ({}, tolerance {}) — {}",
+                c.group, c.name, c.measured, c.reference, c.error, c.tolerance, c.reason
+            )
+        })
         .collect();
-    assert!(failures.is_empty(), "failed checks:\n{}", failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "failed checks:\n{}",
+        failures.join("\n")
+    );
     let _ = std::fs::remove_dir_all(&out);
 }

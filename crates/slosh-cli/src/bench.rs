@@ -17,7 +17,9 @@
 
 use anyhow::{bail, Context, Result};
 use rayon::ThreadPool;
-use slosh_core::{NeighbourBackend, ParticleSetup, PhaseTimes, Simulation, SphParams, Tensor, Vector};
+use slosh_core::{
+    NeighbourBackend, ParticleSetup, PhaseTimes, Simulation, SphParams, Tensor, Vector,
+};
 use slosh_geometry::{CylinderTank, RectTank2, Roof};
 use std::fmt::Write as _;
 use std::mem::size_of;
@@ -62,12 +64,42 @@ pub struct BenchCase {
 /// unoptimised solver on 2 cores; they stay fixed so that CSVs compare across commits.
 pub fn full_cases() -> Vec<BenchCase> {
     vec![
-        BenchCase { name: "2d-2k", tank: BenchTank::PaperRect2, dx: 0.02, steps: 2000, kdtree: true },
-        BenchCase { name: "2d-20k", tank: BenchTank::PaperRect2, dx: 0.005, steps: 500, kdtree: true },
-        BenchCase { name: "2d-80k", tank: BenchTank::PaperRect2, dx: 0.0025, steps: 150, kdtree: true },
-        BenchCase { name: "3d-100k", tank: BenchTank::Cylinder3, dx: 0.018, steps: 30, kdtree: true },
+        BenchCase {
+            name: "2d-2k",
+            tank: BenchTank::PaperRect2,
+            dx: 0.02,
+            steps: 2000,
+            kdtree: true,
+        },
+        BenchCase {
+            name: "2d-20k",
+            tank: BenchTank::PaperRect2,
+            dx: 0.005,
+            steps: 500,
+            kdtree: true,
+        },
+        BenchCase {
+            name: "2d-80k",
+            tank: BenchTank::PaperRect2,
+            dx: 0.0025,
+            steps: 150,
+            kdtree: true,
+        },
+        BenchCase {
+            name: "3d-100k",
+            tank: BenchTank::Cylinder3,
+            dx: 0.018,
+            steps: 30,
+            kdtree: true,
+        },
         // kd-tree skipped at 500k: several times slower than the grid (see the 100k case).
-        BenchCase { name: "3d-500k", tank: BenchTank::Cylinder3, dx: 0.01, steps: 10, kdtree: false },
+        BenchCase {
+            name: "3d-500k",
+            tank: BenchTank::Cylinder3,
+            dx: 0.01,
+            steps: 10,
+            kdtree: false,
+        },
     ]
 }
 
@@ -200,8 +232,14 @@ pub struct BenchConfig {
 /// `slosh bench [--quick] [--out DIR] [--threads 1,2]`: runs the fixed cases, prints a table
 /// and the issue-8 checks, writes `DIR/bench.csv` (default `out/bench`). Always succeeds when
 /// the runs complete: the checks report, they do not fail the command.
-pub fn cli_bench(quick: bool, out: Option<PathBuf>, threads_list: Option<Vec<usize>>) -> Result<()> {
-    let machine = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
+pub fn cli_bench(
+    quick: bool,
+    out: Option<PathBuf>,
+    threads_list: Option<Vec<usize>>,
+) -> Result<()> {
+    let machine = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1);
     let threads = match threads_list {
         Some(list) => {
             if list.is_empty() || list.contains(&0) {
@@ -214,7 +252,10 @@ pub fn cli_bench(quick: bool, out: Option<PathBuf>, threads_list: Option<Vec<usi
     };
     let cases = if quick { quick_cases() } else { full_cases() };
     let out = out.unwrap_or_else(|| PathBuf::from("out").join("bench"));
-    let config = BenchConfig { threads, verbose: true };
+    let config = BenchConfig {
+        threads,
+        verbose: true,
+    };
     println!(
         "slosh bench{}: {} cases, threads {:?} (machine: {machine}), load average {}",
         if quick { " --quick" } else { "" },
@@ -259,22 +300,16 @@ pub fn run_bench(cases: &[BenchCase], config: &BenchConfig, out: &Path) -> Resul
         }
         for backend in backends {
             let new_rows = match case.tank {
-                BenchTank::PaperRect2 => run_case::<2>(
-                    case,
-                    backend,
-                    &pools,
-                    &version,
-                    config.verbose,
-                    || Ok(RectTank2::new(1.0, 1.0, 0.5).build(case.dx)?),
-                ),
-                BenchTank::Cylinder3 => run_case::<3>(
-                    case,
-                    backend,
-                    &pools,
-                    &version,
-                    config.verbose,
-                    || Ok(CylinderTank::new(0.5, 0.6, 0.5, Roof::Flat).build(case.dx)?),
-                ),
+                BenchTank::PaperRect2 => {
+                    run_case::<2>(case, backend, &pools, &version, config.verbose, || {
+                        Ok(RectTank2::new(1.0, 1.0, 0.5).build(case.dx)?)
+                    })
+                }
+                BenchTank::Cylinder3 => {
+                    run_case::<3>(case, backend, &pools, &version, config.verbose, || {
+                        Ok(CylinderTank::new(0.5, 0.6, 0.5, Roof::Flat).build(case.dx)?)
+                    })
+                }
             }
             .with_context(|| format!("bench case {} ({})", case.name, backend_name(backend)))?;
             rows.extend(new_rows);
@@ -324,7 +359,10 @@ fn run_case<const D: usize>(
 ) -> Result<Vec<BenchRow>> {
     reset_peak_rss();
     let rss_before = proc_status_kib("VmRSS:").unwrap_or(0) as f64 * 1024.0;
-    let params = SphParams { neighbour_backend: backend, ..SphParams::default() };
+    let params = SphParams {
+        neighbour_backend: backend,
+        ..SphParams::default()
+    };
     let mut sim = pools[0].install(|| -> Result<Simulation<D>> {
         let mut sim = Simulation::new(build()?, params)?;
         advance(&mut sim, WARMUP_STEPS)?;
@@ -489,7 +527,10 @@ impl SolverBytes {
             // tree's scratch copy of the positions.
             NeighbourBackend::KdTree => (n + nw) * (vec + 4) + n * vec,
         };
-        SolverBytes { reachable, private: scratch + sort_grid + search }
+        SolverBytes {
+            reachable,
+            private: scratch + sort_grid + search,
+        }
     }
 }
 
@@ -552,7 +593,12 @@ pub fn print_checks(rows: &[BenchRow], quick: bool) {
         let v = ok.map_or("n/a ", verdict);
         println!("  {v}  {label:<52} {value}");
     };
-    for (case, target) in [("2d-20k", 5e6), ("2d-80k", 5e6), ("3d-100k", 8e5), ("3d-500k", 8e5)] {
+    for (case, target) in [
+        ("2d-20k", 5e6),
+        ("2d-80k", 5e6),
+        ("3d-100k", 8e5),
+        ("3d-500k", 8e5),
+    ] {
         match find(case, max_threads) {
             Some(r) => line(
                 format!("throughput {case} ≥ {:.1e} particle-steps/s", target),
@@ -563,10 +609,16 @@ pub fn print_checks(rows: &[BenchRow], quick: bool) {
             None => {}
         }
     }
-    for r in rows.iter().filter(|r| r.dim == 3 && r.backend == default && r.threads == max_threads) {
+    for r in rows
+        .iter()
+        .filter(|r| r.dim == 3 && r.backend == default && r.threads == max_threads)
+    {
         line(
             format!("memory {} ≤ 1024 bytes/particle", r.case),
-            format!("{:.0} B (RSS growth {:.0} B)", r.bytes_per_particle, r.rss_bytes_per_particle),
+            format!(
+                "{:.0} B (RSS growth {:.0} B)",
+                r.bytes_per_particle, r.rss_bytes_per_particle
+            ),
             Some(r.bytes_per_particle <= 1024.0),
         );
     }
@@ -596,8 +648,13 @@ pub fn print_checks(rows: &[BenchRow], quick: bool) {
         _ if !quick => line(label, "needs --threads with 1 and 2".into(), None),
         _ => {}
     }
-    let machine = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1) as f64;
-    let busy = rows.iter().filter(|r| r.cpu_util < 0.85 || r.load_avg > machine + 0.5).count();
+    let machine = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1) as f64;
+    let busy = rows
+        .iter()
+        .filter(|r| r.cpu_util < 0.85 || r.load_avg > machine + 0.5)
+        .count();
     if busy > 0 {
         let max_load = rows.iter().map(|r| r.load_avg).fold(0.0, f64::max);
         println!(
@@ -616,7 +673,12 @@ pub fn print_checks(rows: &[BenchRow], quick: bool) {
 fn proc_status_kib(key: &str) -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let line = status.lines().find(|l| l.starts_with(key))?;
-    line[key.len()..].trim().trim_end_matches("kB").trim().parse().ok()
+    line[key.len()..]
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()
 }
 
 /// Resets VmHWM to the current RSS (Linux ≥ 4.0); harmless where unsupported.
@@ -632,7 +694,11 @@ fn process_cpu_s() -> f64 {
     // Fields after the command name (which may hold spaces): state is field 3, utime 14.
     let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
     let f: Vec<&str> = rest.split_whitespace().collect();
-    let ticks = |i: usize| f.get(i).and_then(|s| s.parse::<f64>().ok()).unwrap_or(f64::NAN);
+    let ticks = |i: usize| {
+        f.get(i)
+            .and_then(|s| s.parse::<f64>().ok())
+            .unwrap_or(f64::NAN)
+    };
     (ticks(11) + ticks(12)) / 100.0
 }
 
@@ -680,7 +746,10 @@ mod tests {
             kdtree: false,
         };
         let out = std::env::temp_dir().join(format!("slosh-bench-test-{}", std::process::id()));
-        let config = BenchConfig { threads: vec![1], verbose: false };
+        let config = BenchConfig {
+            threads: vec![1],
+            verbose: false,
+        };
         let rows = run_bench(&[case], &config, &out).unwrap();
         assert_eq!(rows.len(), 1);
         let text = std::fs::read_to_string(out.join("bench.csv")).unwrap();
@@ -695,7 +764,10 @@ mod tests {
         assert_eq!(col("dim"), "2");
         assert_eq!(col("threads"), "1");
         assert_eq!(col("steps"), "50");
-        assert!(col("particles").parse::<usize>().unwrap() > col("fluid_particles").parse::<usize>().unwrap());
+        assert!(
+            col("particles").parse::<usize>().unwrap()
+                > col("fluid_particles").parse::<usize>().unwrap()
+        );
         assert!(col("particle_steps_per_s").parse::<f64>().unwrap() > 0.0);
         assert!(col("bytes_per_particle").parse::<f64>().unwrap() > 100.0);
     }

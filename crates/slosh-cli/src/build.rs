@@ -4,8 +4,8 @@ use anyhow::{bail, Context, Result};
 use slosh_core::ParticleSetup;
 use slosh_geometry::{BoxTank, CylinderTank, Layout, RectTank2, Roof};
 use slosh_script::resolve_script_path;
-use std::path::Path;
 use slosh_script::TankSpec;
+use std::path::Path;
 
 /// Builds the 2D particles of a 2D tank.
 pub fn build_2d(tank: &TankSpec, dx: f64) -> Result<ParticleSetup<2>> {

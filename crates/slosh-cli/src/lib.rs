@@ -6,9 +6,9 @@ pub mod build;
 pub mod post;
 pub mod roof;
 pub mod runner;
-pub mod validate;
+pub mod spectrum;
 pub mod sweep;
 pub mod sweep_plot;
-pub mod spectrum;
+pub mod validate;
 
 pub use runner::{run_case, RunOptions, Summary};

@@ -8,7 +8,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "slosh", version, about = "Sloshing loads on liquid storage tanks (roof, walls, floor) by SPH")]
+#[command(
+    name = "slosh",
+    version,
+    about = "Sloshing loads on liquid storage tanks (roof, walls, floor) by SPH"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -20,6 +24,18 @@ enum Command {
     Run(RunArgs),
     /// Closed-form numbers for a tank (natural periods, masses, Housner, code wave height).
     Theory(TheoryArgs),
+    /// Run the validation suite; writes DIR/report.md and plots; exit code 1 on any FAIL.
+    Validate(ValidateArgs),
+}
+
+#[derive(Args)]
+struct ValidateArgs {
+    /// Quick subset (about 2 min): skips dx = 0.005 m and the 7 s Housner snapshot.
+    #[arg(long)]
+    quick: bool,
+    /// Output folder.
+    #[arg(long, default_value = "out/validate")]
+    out: PathBuf,
 }
 
 #[derive(Args)]
@@ -84,6 +100,14 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(args) => cmd_run(args),
         Command::Theory(args) => cmd_theory(args),
+        Command::Validate(args) => match slosh_cli::validate::cli_validate(args.quick, args.out) {
+            Ok(true) => Ok(()),
+            Ok(false) => {
+                eprintln!("validation: at least one check FAILED (see the report)");
+                return ExitCode::FAILURE;
+            }
+            Err(e) => Err(e),
+        },
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -114,7 +114,9 @@ impl<const D: usize> RoofMonitor<D> {
             times: Vec::new(),
             map: Vec::new(),
             snapshots: Vec::new(),
-            keep_snapshots: D == 2 && roof.is_some() && n_fluid * 3 * expected_rows <= SNAPSHOT_BUDGET,
+            keep_snapshots: D == 2
+                && roof.is_some()
+                && n_fluid * 3 * expected_rows <= SNAPSHOT_BUDGET,
             interior: (lo, hi),
             spacing: sim.spacing(),
         }
@@ -166,11 +168,21 @@ impl<const D: usize> RoofMonitor<D> {
         let n = self.points.len();
         if D == 2 {
             let xs: Vec<f64> = self.positions.iter().map(|p| p[0]).collect();
-            slosh_io::write_grid_csv(out.join("roof_pressure.csv"), "t", &self.times, &xs, &self.map)?;
+            slosh_io::write_grid_csv(
+                out.join("roof_pressure.csv"),
+                "t",
+                &self.times,
+                &xs,
+                &self.map,
+            )?;
             if plots {
                 slosh_io::heatmap(
                     out.join("plots").join("roof_pressure_map"),
-                    &PlotSpec::new("Roof pressure (time-windowed)", "time t [s]", "x along the roof [m]"),
+                    &PlotSpec::new(
+                        "Roof pressure (time-windowed)",
+                        "time t [s]",
+                        "x along the roof [m]",
+                    ),
                     &Field2d {
                         xs: &self.times,
                         ys: &xs,
@@ -181,7 +193,13 @@ impl<const D: usize> RoofMonitor<D> {
             }
         } else {
             let idx: Vec<f64> = (0..n).map(|i| i as f64).collect();
-            slosh_io::write_grid_csv(out.join("roof_pressure.csv"), "t", &self.times, &idx, &self.map)?;
+            slosh_io::write_grid_csv(
+                out.join("roof_pressure.csv"),
+                "t",
+                &self.times,
+                &idx,
+                &self.map,
+            )?;
             let mut table = slosh_io::TableWriter::create(
                 out.join("roof_points.csv"),
                 &["index", "x", "y", "z", "area", "p_peak", "t_peak"],
@@ -189,7 +207,15 @@ impl<const D: usize> RoofMonitor<D> {
             let (peak, t_peak) = self.peaks();
             for i in 0..n {
                 let p = self.positions[i];
-                table.write_row(&[i as f64, p[0], p[1], p[2], self.areas[i], peak[i], t_peak[i]])?;
+                table.write_row(&[
+                    i as f64,
+                    p[0],
+                    p[1],
+                    p[2],
+                    self.areas[i],
+                    peak[i],
+                    t_peak[i],
+                ])?;
             }
             table.flush()?;
             let points: Vec<[f64; 3]> = self.positions.iter().map(|p| [p[0], p[1], p[2]]).collect();
@@ -266,7 +292,7 @@ impl<const D: usize> RoofMonitor<D> {
             slosh_io::heatmap(
                 dir.join(format!("fig7_{label}")),
                 &PlotSpec::new(
-                    &format!(
+                    format!(
                         "Pressure field at {:.2} s after the excitation start",
                         snap.time - settle
                     ),
@@ -348,7 +374,11 @@ pub fn find_impacts(
         for k in start.max(1)..end {
             impulse += 0.5 * (roof_force[k] + roof_force[k - 1]).max(0.0) * (t[k] - t[k - 1]);
         }
-        let v = if start > 0 { crest_vz[start - 1].max(0.0) } else { 0.0 };
+        let v = if start > 0 {
+            crest_vz[start - 1].max(0.0)
+        } else {
+            0.0
+        };
         let x_f = contact[k_peak];
         impacts.push(RoofImpact {
             t_start: t[start],
@@ -370,7 +400,12 @@ pub fn find_impacts(
             } else {
                 f64::NAN
             },
-            p_malhotra: malhotra_roof_pressure(tank.density, tank.gravity, x_f, MALHOTRA_DEFAULT_ANGLE),
+            p_malhotra: malhotra_roof_pressure(
+                tank.density,
+                tank.gravity,
+                x_f,
+                MALHOTRA_DEFAULT_ANGLE,
+            ),
         });
     }
     impacts

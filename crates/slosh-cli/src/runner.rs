@@ -173,6 +173,12 @@ fn columns(dim: usize, gauges: &[slosh_script::GaugeSpec]) -> Columns {
     names.push(("wall_p_max".into(), "Pa".into()));
     names.push(("bottom_force_down".into(), force.into()));
     names.push(("roof_contact_extent".into(), "m".into()));
+    if dim == 2 {
+        names.push(("overturning_moment".into(), "N·m/m".into()));
+    } else {
+        names.push(("overturning_moment_y".into(), "N·m".into()));
+        names.push(("overturning_moment_x".into(), "N·m".into()));
+    }
     Columns {
         names,
         idx_base_shear_x,
@@ -224,7 +230,9 @@ fn wall_gauges<const D: usize>(sim: &Simulation<D>) -> (Vec<f64>, Vec<f64>) {
 fn theory_numbers(tank: &TankSpec, gravity: f64) -> TheoryNumbers {
     use slosh_theory::natural;
     let omega_1 = match tank {
-        TankSpec::Rect { width, depth, .. } => natural::rectangular_omega(*width, *depth, gravity, 1),
+        TankSpec::Rect { width, depth, .. } => {
+            natural::rectangular_omega(*width, *depth, gravity, 1)
+        }
         TankSpec::Box { length, depth, .. } => {
             natural::rectangular_omega(*length, *depth, gravity, 1)
         }
@@ -276,6 +284,7 @@ fn run_loop<const D: usize>(
     let duration = case.run.duration;
     let interval = case.run.output_interval;
     let mut roof = crate::roof::RoofMonitor::new(&sim, (duration / interval).ceil() as usize + 2);
+    let levers = overturning_levers(&sim);
     let mut next_output = 0.0;
     let mut next_frame = 0.0;
     let mut pending: VecDeque<PendingRow> = VecDeque::new();
@@ -311,6 +320,9 @@ fn run_loop<const D: usize>(
         values.push(wall_part.map(|k| loads.peak_pressure[k]).unwrap_or(0.0));
         values.push(-pick(bottom_part));
         values.push(contact);
+        for lever in &levers {
+            values.push(lever.iter().zip(centred_pressure).map(|(c, p)| c * p).sum());
+        }
         writer.write_row(&values)?;
         for (h, v) in history.iter_mut().zip(&values) {
             h.push(*v);
@@ -350,7 +362,11 @@ fn run_loop<const D: usize>(
             } else {
                 values.push(accel3[2]);
             }
-            let eta = |h: &[f64]| sim.surface_level_at(h).map(|z| z - fill).unwrap_or(f64::NAN);
+            let eta = |h: &[f64]| {
+                sim.surface_level_at(h)
+                    .map(|z| z - fill)
+                    .unwrap_or(f64::NAN)
+            };
             values.push(eta(&left));
             values.push(eta(&right));
             for g in &case.gauges {
@@ -393,7 +409,7 @@ fn run_loop<const D: usize>(
         }
         if let Some(pb) = &progress {
             pb.set_position((sim.time() * 1000.0) as u64);
-            if sim.steps() % 50 == 0 {
+            if sim.steps().is_multiple_of(50) {
                 let el = started.elapsed().as_secs_f64();
                 pb.set_message(format!("{:.0} steps/s", sim.steps() as f64 / el.max(1e-9)));
             }
@@ -443,12 +459,22 @@ fn run_loop<const D: usize>(
             .map(|i| &history[i])
     };
     let max_of = |v: Option<&Vec<f64>>| {
-        v.map(|v| v.iter().copied().filter(|x| x.is_finite()).fold(f64::NEG_INFINITY, f64::max))
-            .unwrap_or(f64::NAN)
+        v.map(|v| {
+            v.iter()
+                .copied()
+                .filter(|x| x.is_finite())
+                .fold(f64::NEG_INFINITY, f64::max)
+        })
+        .unwrap_or(f64::NAN)
     };
     let min_of = |v: Option<&Vec<f64>>| {
-        v.map(|v| v.iter().copied().filter(|x| x.is_finite()).fold(f64::INFINITY, f64::min))
-            .unwrap_or(f64::NAN)
+        v.map(|v| {
+            v.iter()
+                .copied()
+                .filter(|x| x.is_finite())
+                .fold(f64::INFINITY, f64::min)
+        })
+        .unwrap_or(f64::NAN)
     };
     let lost = n_fluid0 - sim.fluid_inside();
     let _ = (cols.idx_base_shear_x, cols.idx_roof_force_up);
@@ -456,7 +482,12 @@ fn run_loop<const D: usize>(
         version: env!("CARGO_PKG_VERSION").to_string(),
         case: case.name.clone(),
         script: case.script.display().to_string(),
-        status: if failure.is_some() { "failed" } else { "completed" }.into(),
+        status: if failure.is_some() {
+            "failed"
+        } else {
+            "completed"
+        }
+        .into(),
         error: failure.as_ref().map(|e| format!("{e:#}")),
         dim: D,
         particles_fluid: n_fluid0,
@@ -571,13 +602,57 @@ fn run_loop<const D: usize>(
     Ok(summary)
 }
 
+/// Overturning-moment coefficients c_k of the load points, M = Σ_k p_k c_k: the moment of the
+/// liquid's pressure on walls, bottom and roof about a horizontal axis through the centre of
+/// the floor (Housner's overturning moment including the base pressure). 2D: about the axis
+/// normal to the section, M = Σ p A [(z − z_f) n_x − (x − x_c) n_z] (N·m/m), positive when the
+/// liquid pushes the tank over towards +x. 3D: that moment about the y axis, and about the x
+/// axis M_x = Σ p A [(y − y_c) n_z − (z − z_f) n_y].
+fn overturning_levers<const D: usize>(sim: &Simulation<D>) -> Vec<Vec<f64>> {
+    let loads = sim.loads();
+    let (lo, hi) = sim.interior_bounds();
+    let centre: Vec<f64> = (0..D - 1).map(|k| 0.5 * (lo[k] + hi[k])).collect();
+    let floor = lo[D - 1];
+    let about_y = |k: usize| {
+        let (x, n, a) = (loads.positions()[k], loads.normals()[k], loads.areas()[k]);
+        a * ((x[D - 1] - floor) * n[0] - (x[0] - centre[0]) * n[D - 1])
+    };
+    let mut levers = vec![(0..loads.len()).map(about_y).collect::<Vec<f64>>()];
+    if D == 3 {
+        levers.push(
+            (0..loads.len())
+                .map(|k| {
+                    let (x, n, a) = (loads.positions()[k], loads.normals()[k], loads.areas()[k]);
+                    a * ((x[1] - centre[1]) * n[2] - (x[2] - floor) * n[1])
+                })
+                .collect(),
+        );
+    }
+    levers
+}
+
 /// Kurihara's tank numbers from the script's tank: depth H, freeboard H′ at the wall,
 /// half-width l (or radius), ω = the first sloshing mode.
 fn roof_tank(tank: &TankSpec, params: &SphParams, omega_1: f64) -> crate::roof::RoofTank {
     let (depth, height, half_width) = match tank {
-        TankSpec::Rect { width, height, depth, .. } => (*depth, *height, 0.5 * width),
-        TankSpec::Cylinder { radius, height, depth, .. } => (*depth, *height, *radius),
-        TankSpec::Box { length, height, depth, .. } => (*depth, *height, 0.5 * length),
+        TankSpec::Rect {
+            width,
+            height,
+            depth,
+            ..
+        } => (*depth, *height, 0.5 * width),
+        TankSpec::Cylinder {
+            radius,
+            height,
+            depth,
+            ..
+        } => (*depth, *height, *radius),
+        TankSpec::Box {
+            length,
+            height,
+            depth,
+            ..
+        } => (*depth, *height, 0.5 * length),
     };
     crate::roof::RoofTank {
         density: params.rest_density,
@@ -595,15 +670,17 @@ fn make_progress(opts: &RunOptions, duration: f64) -> Option<indicatif::Progress
     }
     let pb = indicatif::ProgressBar::new((duration * 1000.0) as u64);
     pb.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{bar:40} t = {pos} / {len} ms  {msg}  ETA {eta}",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        indicatif::ProgressStyle::with_template("{bar:40} t = {pos} / {len} ms  {msg}  ETA {eta}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     Some(pb)
 }
 
-fn write_frame<const D: usize>(frames: &mut FrameSeries, sim: &Simulation<D>, t: f64) -> Result<()> {
+fn write_frame<const D: usize>(
+    frames: &mut FrameSeries,
+    sim: &Simulation<D>,
+    t: f64,
+) -> Result<()> {
     let fluid = sim.fluid();
     let walls = sim.walls();
     let pad = |p: &Vector<D>| {
@@ -623,8 +700,18 @@ fn write_frame<const D: usize>(frames: &mut FrameSeries, sim: &Simulation<D>, t:
         .map(pad)
         .chain(walls.position.iter().map(|_| [0.0; 3]))
         .collect();
-    let pressure: Vec<f64> = fluid.pressure.iter().chain(&walls.pressure).copied().collect();
-    let density: Vec<f64> = fluid.density.iter().chain(&walls.density).copied().collect();
+    let pressure: Vec<f64> = fluid
+        .pressure
+        .iter()
+        .chain(&walls.pressure)
+        .copied()
+        .collect();
+    let density: Vec<f64> = fluid
+        .density
+        .iter()
+        .chain(&walls.density)
+        .copied()
+        .collect();
     let kind: Vec<i32> = std::iter::repeat_n(0, fluid.position.len())
         .chain(std::iter::repeat_n(1, walls.position.len()))
         .collect();
@@ -652,7 +739,12 @@ fn write_frame<const D: usize>(frames: &mut FrameSeries, sim: &Simulation<D>, t:
     Ok(())
 }
 
-fn write_plots(out: &Path, names: &[(String, String)], history: &[Vec<f64>], dim: usize) -> Result<()> {
+fn write_plots(
+    out: &Path,
+    names: &[(String, String)],
+    history: &[Vec<f64>],
+    dim: usize,
+) -> Result<()> {
     let plots = out.join("plots");
     std::fs::create_dir_all(&plots)?;
     let find = |n: &str| names.iter().position(|(c, _)| c == n);

@@ -154,7 +154,13 @@ pub fn write_input_spectrum(
     let csv = out.join("input_spectrum.csv");
     let mut table = TableWriter::create(
         &csv,
-        &["period_s", "sa_m_s2", "sa_g", "sa_0p5pct_m_s2", "sa_0p5pct_g"],
+        &[
+            "period_s",
+            "sa_m_s2",
+            "sa_g",
+            "sa_0p5pct_m_s2",
+            "sa_0p5pct_g",
+        ],
     )
     .with_context(|| format!("cannot write {}", csv.display()))?;
     for ((&t, &sa5), &sa05) in periods

@@ -192,7 +192,9 @@ fn parse_range(item: &str) -> Option<Result<Vec<ParamValue>>> {
             bail!("range {item}: START:STOP:STEP needs finite numbers and a non-zero step");
         }
         if (stop - start) * step < 0.0 {
-            bail!("range {item}: the step {step} goes away from STOP; use a step of the other sign");
+            bail!(
+                "range {item}: the step {step} goes away from STOP; use a step of the other sign"
+            );
         }
         let n = ((stop - start) / step + 1e-9).floor() as usize + 1;
         if n > MAX_RANGE_VALUES {
@@ -311,7 +313,10 @@ impl<'de> Deserialize<'de> for OrderedFields {
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
                 f.write_str("a struct of named fields")
             }
-            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> std::result::Result<Self::Value, A::Error> {
+            fn visit_map<A: MapAccess<'de>>(
+                self,
+                mut map: A,
+            ) -> std::result::Result<Self::Value, A::Error> {
                 let mut fields = Vec::new();
                 while let Some((k, v)) = map.next_entry::<String, ron::Value>()? {
                     fields.push((k, v));
@@ -350,8 +355,8 @@ fn number_text(v: &ron::Value) -> Option<String> {
 }
 
 fn read_summary(path: &Path) -> Result<ReadSummary> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read {}", path.display()))?;
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
     let head: SummaryHead = ron::from_str(&text)
         .with_context(|| format!("{} is not a summary written by slosh run", path.display()))?;
     let fields: OrderedFields = ron::from_str(&text)
@@ -440,6 +445,13 @@ pub fn cli_sweep(
     }
     let varies: Vec<Vary> = vary.iter().map(|a| parse_vary(a)).collect::<Result<_>>()?;
     for (i, v) in varies.iter().enumerate() {
+        if matches!(v.name.as_str(), "case" | "status" | "error") {
+            bail!(
+                "--vary {}: a parameter named `{}` cannot be swept because sweep.csv uses that column name itself; rename the parameter in the script",
+                v.name,
+                v.name
+            );
+        }
         if varies[..i].iter().any(|w| w.name == v.name) {
             bail!(
                 "--vary {} is given twice; put all its values in one --vary {}=V1,V2,...",
@@ -723,7 +735,10 @@ fn error_message(log: &str) -> Option<String> {
         .rfind("error: ")
         .map(|i| i + "error: ".len())
         .or_else(|| log.find("panicked at"))?;
-    let text = log[start..].split_whitespace().collect::<Vec<_>>().join(" ");
+    let text = log[start..]
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
     (!text.is_empty()).then_some(text)
 }
 
@@ -735,18 +750,30 @@ fn write_table(path: &Path, varies: &[Vary], results: &[Done]) -> Result<()> {
     header.push("status".into());
     header.push("error".into());
     let fixed = header.len();
+    // A summary scalar named like a fixed column (a varied `duration`, say) is `summary_<name>`.
+    let fixed_names = header.clone();
+    let column_of = |k: &str| -> String {
+        if fixed_names.iter().any(|h| h == k) {
+            format!("summary_{k}")
+        } else {
+            k.to_string()
+        }
+    };
+    let mut scalar_columns: Vec<String> = Vec::new();
     for d in results {
         for (k, _) in d.summary.iter().flat_map(|s| &s.scalars) {
-            if !header.contains(k) {
-                header.push(k.clone());
+            let c = column_of(k);
+            if !scalar_columns.contains(&c) && !fixed_names.contains(&c) {
+                scalar_columns.push(c);
             }
         }
     }
-    let index: HashMap<&str, usize> = header
+    header.extend(scalar_columns);
+    let index: HashMap<String, usize> = header
         .iter()
         .enumerate()
         .skip(fixed)
-        .map(|(i, k)| (k.as_str(), i))
+        .map(|(i, k)| (k.clone(), i))
         .collect();
     let mut table = slosh_io::TableWriter::create(path, &header)
         .with_context(|| format!("cannot write the sweep table {}", path.display()))?;
@@ -759,7 +786,9 @@ fn write_table(path: &Path, varies: &[Vary], results: &[Done]) -> Result<()> {
         row[fixed - 2] = d.outcome.status.csv_word().into();
         row[fixed - 1] = d.outcome.error.clone().unwrap_or_default();
         for (k, v) in d.summary.iter().flat_map(|s| &s.scalars) {
-            row[index[k.as_str()]] = v.clone();
+            if let Some(&i) = index.get(&column_of(k)) {
+                row[i] = v.clone();
+            }
         }
         table
             .write_text_row(&row)
@@ -818,7 +847,10 @@ mod tests {
         let v = parse_vary(r#"roof="a,b",cone"#).unwrap();
         assert_eq!(
             v.values,
-            vec![ParamValue::Str("a,b".into()), ParamValue::Str("cone".into())]
+            vec![
+                ParamValue::Str("a,b".into()),
+                ParamValue::Str("cone".into())
+            ]
         );
         let v = parse_vary("mesh=C:/tanks/roof.obj").unwrap();
         assert_eq!(v.values, vec![ParamValue::Str("C:/tanks/roof.obj".into())]);

@@ -70,14 +70,18 @@ pub fn draw(sweep_csv: &Path, plot: &SweepPlot, title: &str) -> Result<PathBuf> 
     let mut data: BTreeMap<String, Vec<Vec<(f64, f64)>>> = BTreeMap::new();
     for record in reader.records() {
         let record = record?;
-        let Ok(x) = record[xi].trim().parse::<f64>() else { continue };
+        let Ok(x) = record[xi].trim().parse::<f64>() else {
+            continue;
+        };
         let label = gis
             .iter()
             .zip(&plot.groups)
             .map(|(&g, name)| format!("{name}={}", record[g].trim()))
             .collect::<Vec<_>>()
             .join(", ");
-        let entry = data.entry(label).or_insert_with(|| vec![Vec::new(); yis.len()]);
+        let entry = data
+            .entry(label)
+            .or_insert_with(|| vec![Vec::new(); yis.len()]);
         for (k, &yi) in yis.iter().enumerate() {
             if let Ok(y) = record[yi].trim().parse::<f64>() {
                 if x.is_finite() && y.is_finite() {
@@ -113,7 +117,7 @@ pub fn draw(sweep_csv: &Path, plot: &SweepPlot, title: &str) -> Result<PathBuf> 
         .join(plot.file_stem());
     slosh_io::line_plot(
         &stem,
-        &PlotSpec::new(title, &plot.x, &plot.ys.join(", ")),
+        &PlotSpec::new(title, &plot.x, plot.ys.join(", ")),
         &series,
     )?;
     Ok(stem)

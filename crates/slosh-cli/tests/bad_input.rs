@@ -55,7 +55,13 @@ fn small_case_runs() {
     let dir = temp("small_case_runs");
     let case = small_case(&dir, "0.0", "");
     let out = dir.join("out");
-    let (ok, err) = run(&["run", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet"]);
+    let (ok, err) = run(&[
+        "run",
+        case.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
     assert!(ok, "{err}");
     assert!(out.join("series.csv").exists() && out.join("summary.ron").exists());
 }
@@ -74,18 +80,36 @@ fn syntax_error_reports_file_line_column() {
 fn unknown_set_name_lists_the_parameters() {
     let dir = temp("unknown_set");
     let case = small_case(&dir, "0.0", "");
-    let (ok, err) = run(&["run", case.to_str().unwrap(), "--set", "widht=0.5", "--quiet"]);
+    let (ok, err) = run(&[
+        "run",
+        case.to_str().unwrap(),
+        "--set",
+        "widht=0.5",
+        "--quiet",
+    ]);
     assert!(!ok);
-    assert!(err.contains("widht") && err.contains("width = 0.4"), "{err}");
+    assert!(
+        err.contains("widht") && err.contains("width = 0.4"),
+        "{err}"
+    );
 }
 
 #[test]
 fn non_numeric_value_is_refused() {
     let dir = temp("non_numeric");
     let case = small_case(&dir, "0.0", "");
-    let (ok, err) = run(&["run", case.to_str().unwrap(), "--set", "width=abc", "--quiet"]);
+    let (ok, err) = run(&[
+        "run",
+        case.to_str().unwrap(),
+        "--set",
+        "width=abc",
+        "--quiet",
+    ]);
     assert!(!ok);
-    assert!(err.contains("width") && err.contains("expects a number"), "{err}");
+    assert!(
+        err.contains("width") && err.contains("expects a number"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -101,7 +125,13 @@ fn zero_width_is_refused() {
 fn depth_above_tank_height_is_refused() {
     let dir = temp("depth_above");
     let case = small_case(&dir, "0.0", "");
-    let (ok, err) = run(&["run", case.to_str().unwrap(), "--set", "depth=0.6", "--quiet"]);
+    let (ok, err) = run(&[
+        "run",
+        case.to_str().unwrap(),
+        "--set",
+        "depth=0.6",
+        "--quiet",
+    ]);
     assert!(!ok);
     assert!(err.contains("above the tank height"), "{err}");
 }
@@ -120,7 +150,13 @@ fn nan_ground_motion_is_reported() {
     let dir = temp("nan_motion");
     let case = small_case(&dir, "0.0 / 0.0", "");
     let out = dir.join("out");
-    let (ok, err) = run(&["run", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet"]);
+    let (ok, err) = run(&[
+        "run",
+        case.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
     assert!(!ok);
     assert!(err.contains("non-finite"), "{err}");
 }
@@ -129,9 +165,18 @@ fn nan_ground_motion_is_reported() {
 fn fixed_dt_above_the_bound_is_refused_with_the_bound() {
     let dir = temp("dt_bound");
     let case = small_case(&dir, "0.0", "");
-    let (ok, err) = run(&["run", case.to_str().unwrap(), "--set", "dt=0.001", "--quiet"]);
+    let (ok, err) = run(&[
+        "run",
+        case.to_str().unwrap(),
+        "--set",
+        "dt=0.001",
+        "--quiet",
+    ]);
     assert!(!ok);
-    assert!(err.contains("stability bound") && err.contains("allow_unstable_dt"), "{err}");
+    assert!(
+        err.contains("stability bound") && err.contains("allow_unstable_dt"),
+        "{err}"
+    );
 }
 
 /// A violent excitation (100 g) throws the liquid out of the domain: the run stops with the
@@ -153,7 +198,10 @@ fn blow_up_keeps_outputs_and_says_when() {
     assert!(!ok);
     assert!(err.contains("blew up at t ="), "{err}");
     let series = std::fs::read_to_string(out.join("series.csv")).unwrap();
-    assert!(series.lines().count() > 2, "rows written before the blow-up are kept");
+    assert!(
+        series.lines().count() > 2,
+        "rows written before the blow-up are kept"
+    );
     let summary = std::fs::read_to_string(out.join("summary.ron")).unwrap();
     assert!(summary.contains("status: \"failed\""), "{summary}");
 }
@@ -161,12 +209,31 @@ fn blow_up_keeps_outputs_and_says_when() {
 #[test]
 fn list_params_prints_the_declared_parameters() {
     let out = slosh()
-        .args(["run", concat!(env!("CARGO_MANIFEST_DIR"), "/../../scripts/paper_2d_sloshing.rhai"), "--list-params"])
+        .args([
+            "run",
+            concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/../../scripts/paper_2d_sloshing.rhai"
+            ),
+            "--list-params",
+        ])
         .output()
         .unwrap();
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
-    for name in ["width", "tank_height", "depth", "amplitude", "omega", "dx", "settle", "duration", "initial_tilt", "scheme", "layout"] {
+    for name in [
+        "width",
+        "tank_height",
+        "depth",
+        "amplitude",
+        "omega",
+        "dx",
+        "settle",
+        "duration",
+        "initial_tilt",
+        "scheme",
+        "layout",
+    ] {
         assert!(text.contains(name), "missing {name} in\n{text}");
     }
 }

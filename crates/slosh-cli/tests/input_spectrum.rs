@@ -53,10 +53,7 @@ fn sine_input_spectrum_peaks_at_the_sine_period() {
         .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
         .collect();
     assert_eq!(rows.len(), 200);
-    let peak = rows
-        .iter()
-        .max_by(|a, b| a[1].total_cmp(&b[1]))
-        .unwrap();
+    let peak = rows.iter().max_by(|a, b| a[1].total_cmp(&b[1])).unwrap();
     assert!((peak[0] / period - 1.0).abs() < 0.04);
     assert!((peak[2] - peak[1] / 9.81).abs() < 1e-9);
     assert!(out.join("plots/input_spectrum.png").exists());

@@ -121,17 +121,38 @@ fn sweep_runs_the_product_and_resumes() {
 
     let (header, rows) = read_csv(&out.join("sweep.csv"));
     assert_eq!(rows.len(), 4, "{rows:?}");
-    for name in ["case", "width", "depth", "status", "error", "steps", "max_eta_left", "theory_omega_1", "post_double_depth"] {
-        assert!(header.iter().any(|h| h == name), "no column {name} in {header:?}");
+    for name in [
+        "case",
+        "width",
+        "depth",
+        "status",
+        "error",
+        "steps",
+        "max_eta_left",
+        "theory_omega_1",
+        "post_double_depth",
+    ] {
+        assert!(
+            header.iter().any(|h| h == name),
+            "no column {name} in {header:?}"
+        );
     }
-    let expect = [("0.4", "0.16"), ("0.4", "0.2"), ("0.48", "0.16"), ("0.48", "0.2")];
+    let expect = [
+        ("0.4", "0.16"),
+        ("0.4", "0.2"),
+        ("0.48", "0.16"),
+        ("0.48", "0.2"),
+    ];
     for (row, (w, d)) in rows.iter().zip(expect) {
         assert_eq!(column(&header, row, "width"), w);
         assert_eq!(column(&header, row, "depth"), d);
         assert_eq!(column(&header, row, "status"), "completed");
         assert!(column(&header, row, "steps").parse::<u64>().unwrap() > 0);
         let post: f64 = column(&header, row, "post_double_depth").parse().unwrap();
-        assert!((post - 2.0 * d.parse::<f64>().unwrap()).abs() < 1e-12, "{post}");
+        assert!(
+            (post - 2.0 * d.parse::<f64>().unwrap()).abs() < 1e-12,
+            "{post}"
+        );
     }
 
     // The second call finds every case done and runs none of them.
@@ -148,12 +169,24 @@ fn sweep_runs_the_product_and_resumes() {
         .collect();
     assert_eq!(before, after, "a finished case was run again");
     let (header2, rows2) = read_csv(&out.join("sweep.csv"));
-    assert_eq!((header2, rows2), (header, rows), "the resumed table is the same");
+    assert_eq!(
+        (header2, rows2),
+        (header, rows),
+        "the resumed table is the same"
+    );
 
     // A new value runs only the new cases.
-    let more = vec!["width=0.4,0.48".to_string(), "depth=0.16,0.2,0.12".to_string()];
+    let more = vec![
+        "width=0.4,0.48".to_string(),
+        "depth=0.16,0.2,0.12".to_string(),
+    ];
     let third = cli_sweep(exe(), &case, &more, Some(out.clone()), 2, true).unwrap();
-    assert_eq!((third.skipped(), third.completed()), (4, 2), "{:?}", third.cases);
+    assert_eq!(
+        (third.skipped(), third.completed()),
+        (4, 2),
+        "{:?}",
+        third.cases
+    );
 }
 
 #[test]
@@ -161,15 +194,23 @@ fn a_failing_case_does_not_stop_the_others() {
     let dir = temp("sweep_failure");
     let case = small_case(&dir);
     let out = dir.join("sweep");
-    // depth 0.6 m is above the 0.4 m tank: that case fails before it starts.
-    let vary = vec!["depth=0.16,0.6,0.2".to_string()];
+    // depth 0.6 m is above the 0.4 m tank: that case fails before it starts. A one-value
+    // --vary fixes a parameter; `duration` is also a summary field (column summary_duration).
+    let vary = vec![
+        "depth=0.16,0.6,0.2".to_string(),
+        "duration=0.04".to_string(),
+    ];
     let outcome = cli_sweep(exe(), &case, &vary, Some(out.clone()), 2, true).unwrap();
     assert_eq!(outcome.failed(), 1, "{:?}", outcome.cases);
     assert_eq!(outcome.completed(), 2);
     let failed = &outcome.cases[1];
     assert_eq!(failed.status, CaseStatus::Failed);
     assert!(
-        failed.error.as_deref().unwrap().contains("above the tank height"),
+        failed
+            .error
+            .as_deref()
+            .unwrap()
+            .contains("above the tank height"),
         "{failed:?}"
     );
 
@@ -179,6 +220,14 @@ fn a_failing_case_does_not_stop_the_others() {
     assert_eq!(statuses, ["completed", "failed", "completed"]);
     assert!(column(&header, &rows[1], "error").contains("above the tank height"));
     assert_eq!(column(&header, &rows[1], "depth"), "0.6");
+    assert_eq!(column(&header, &rows[0], "duration"), "0.04");
+    assert_eq!(column(&header, &rows[0], "summary_duration"), "0.04");
+    assert_eq!(
+        column(&header, &rows[1], "summary_duration"),
+        "",
+        "no summary for the failed case"
+    );
+    assert_eq!(outcome.cases[0].folder, "depth-0.16__duration-0.04");
 
     // Resuming reruns the failed case only (and it fails again).
     let again = cli_sweep(exe(), &case, &vary, Some(out), 2, true).unwrap();
@@ -192,7 +241,10 @@ fn bad_vary_arguments_are_refused_before_running() {
     let out = dir.join("sweep");
     let err = |vary: &[&str]| {
         let vary: Vec<String> = vary.iter().map(|s| s.to_string()).collect();
-        format!("{:#}", cli_sweep(exe(), &case, &vary, Some(out.clone()), 1, true).unwrap_err())
+        format!(
+            "{:#}",
+            cli_sweep(exe(), &case, &vary, Some(out.clone()), 1, true).unwrap_err()
+        )
     };
     let e = err(&["widht=0.4,0.5"]);
     assert!(e.contains("widht") && e.contains("width = 0.4"), "{e}");

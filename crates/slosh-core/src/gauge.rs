@@ -10,7 +10,11 @@ use crate::sim::{Simulation, Vector};
 /// wall and S stays below 1 even inside the liquid; at a flat surface S drops to S_ref/2 at the
 /// surface itself (half the kernel is in the liquid). `None` when the line holds no liquid.
 pub fn surface_level<const D: usize>(sim: &Simulation<D>, horizontal: &[f64]) -> Option<f64> {
-    assert_eq!(horizontal.len(), D - 1, "a gauge needs D−1 horizontal coordinates");
+    assert_eq!(
+        horizontal.len(),
+        D - 1,
+        "a gauge needs D−1 horizontal coordinates"
+    );
     let kernel = sim.kernel();
     let support = kernel.support();
     let mass = sim.particle_mass();

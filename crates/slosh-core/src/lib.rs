@@ -29,6 +29,6 @@ pub use sim::{Fluid, PhaseTimes, Simulation, StepStats, Tensor, Vector, Walls};
 #[cfg(test)]
 mod test_tank;
 #[cfg(test)]
-mod tests_physics;
-#[cfg(test)]
 mod tests_modern;
+#[cfg(test)]
+mod tests_physics;

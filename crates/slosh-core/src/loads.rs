@@ -78,7 +78,10 @@ impl<const D: usize> LoadEvaluator<D> {
         LoadEvaluator {
             part: wall_index.iter().map(|&w| walls.part[w as usize]).collect(),
             area: wall_index.iter().map(|&w| walls.area[w as usize]).collect(),
-            normal: wall_index.iter().map(|&w| walls.normal[w as usize]).collect(),
+            normal: wall_index
+                .iter()
+                .map(|&w| walls.normal[w as usize])
+                .collect(),
             position: wall_index
                 .iter()
                 .map(|&w| walls.position[w as usize])
@@ -213,8 +216,7 @@ impl<const D: usize> LoadEvaluator<D> {
                                 weight += wv;
                                 // Hydrostatic transfer from x_j to the face: p + ρ f·(x − x_j).
                                 weighted += wv
-                                    * (fluid.pressure[j]
-                                        + fluid.density[j] * body_force.dot(&d));
+                                    * (fluid.pressure[j] + fluid.density[j] * body_force.dot(&d));
                             }
                         });
                         if weight > 1e-3 {
@@ -255,9 +257,12 @@ impl<const D: usize> LoadEvaluator<D> {
             for (c, s) in self.centred_pressure.iter_mut().zip(&self.running_sum) {
                 *c = s / count;
             }
-            let centre_slot = ((self.recorded - 1 - self.half_window as u64) % self.window as u64)
-                as usize;
-            let (cs, ct) = (self.history_step[centre_slot], self.history_time[centre_slot]);
+            let centre_slot =
+                ((self.recorded - 1 - self.half_window as u64) % self.window as u64) as usize;
+            let (cs, ct) = (
+                self.history_step[centre_slot],
+                self.history_time[centre_slot],
+            );
             self.update_centred(cs, ct);
         }
     }
@@ -299,7 +304,10 @@ impl<const D: usize> LoadEvaluator<D> {
         });
         loads.step = step;
         loads.time = time;
-        loads.force.iter_mut().for_each(|f| *f = Vector::<D>::zeros());
+        loads
+            .force
+            .iter_mut()
+            .for_each(|f| *f = Vector::<D>::zeros());
         loads.peak_pressure.iter_mut().for_each(|p| *p = 0.0);
         for k in 0..self.wall_index.len() {
             let part = self.part[k] as usize;
@@ -357,7 +365,8 @@ fn smoothed_pressure<const D: usize, S: NeighbourSearch<D>>(
     search.for_each_fluid_candidate(&xi, |j| {
         let r2 = (xi - fluid.position[j]).norm_squared();
         if r2 < support_sq {
-            correction += mass / fluid.density[j] * (pi - fluid.pressure[j]) * kernel.value(r2.sqrt());
+            correction +=
+                mass / fluid.density[j] * (pi - fluid.pressure[j]) * kernel.value(r2.sqrt());
         }
     });
     pi - eps * correction

@@ -59,7 +59,11 @@ impl<const D: usize> ModernState<D> {
         let continuity = params.density == DensityMethod::Continuity;
         let k = ModernConstants {
             continuity,
-            diffusion: if continuity && delta > 0.0 { diffusion } else { 0 },
+            diffusion: if continuity && delta > 0.0 {
+                diffusion
+            } else {
+                0
+            },
             diffusion_coeff: delta * h * c0,
             adami: params.boundary == BoundaryMethod::Adami,
             no_slip: params.wall_no_slip,
@@ -84,7 +88,10 @@ impl PassConstants {
     /// Inverse of the Tait EOS (Eq. 18): ρ = ρ0 (1 + p/B)^(1/γ).
     #[inline(always)]
     fn density_of(&self, pressure: f64, inv_gamma: f64) -> f64 {
-        self.rest_density * (1.0 + pressure / self.eos_stiffness).max(1e-6).powf(inv_gamma)
+        self.rest_density
+            * (1.0 + pressure / self.eos_stiffness)
+                .max(1e-6)
+                .powf(inv_gamma)
     }
 }
 
@@ -108,7 +115,12 @@ impl<const D: usize> Simulation<D> {
                 .density
                 .iter_mut()
                 .zip(self.fluid.inverse_density.iter_mut())
-                .zip(self.fluid.position.iter().zip(self.fluid.pressure.iter_mut()))
+                .zip(
+                    self.fluid
+                        .position
+                        .iter()
+                        .zip(self.fluid.pressure.iter_mut()),
+                )
             {
                 *rho = hydrostatic_density(&c, g, k.inv_gamma, (level - x[D - 1]).max(0.0));
                 *inv = 1.0 / *rho;
@@ -445,7 +457,9 @@ impl<const D: usize> Simulation<D> {
         let c = self.constants;
         let st = self.modern.as_mut().expect("modern state");
         match &self.search {
-            Search::Grid(s) => modern_force_pass(s, &c, &mut self.fluid, &self.walls, st, body_force),
+            Search::Grid(s) => {
+                modern_force_pass(s, &c, &mut self.fluid, &self.walls, st, body_force)
+            }
             Search::KdTree(s) => {
                 modern_force_pass(s, &c, &mut self.fluid, &self.walls, st, body_force)
             }
@@ -698,7 +712,11 @@ fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
         let inv_rho_i = inv_rho[i];
         let p_i = p[i];
         let strain_i = strain[i];
-        let rho_dyn_i = if diffusion == 2 { rho_i - rho_h[i] } else { rho_i };
+        let rho_dyn_i = if diffusion == 2 {
+            rho_i - rho_h[i]
+        } else {
+            rho_i
+        };
         let mut acc = Vector::<D>::zeros();
         let mut drho = 0.0;
         let mut grad_c = Vector::<D>::zeros();
@@ -735,7 +753,11 @@ fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
             if continuity {
                 drho += m * vij.dot(&grad_w);
                 if diffusion != 0 {
-                    let rho_dyn_j = if diffusion == 2 { rho_j - rho_h[j] } else { rho_j };
+                    let rho_dyn_j = if diffusion == 2 {
+                        rho_j - rho_h[j]
+                    } else {
+                        rho_j
+                    };
                     drho += diff_coeff * (rho_dyn_j - rho_dyn_i) * f * m * inv_rho_j;
                 }
             }
@@ -759,7 +781,11 @@ fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
             let inv_rho_iw = inv_rho_i * wall_inv_rho[w];
             let mut scalar = -(p_i + wall_p[w]) * inv_rho_iw;
             if wall_av {
-                let v_w = if mirrored { wall_vel[w] } else { Vector::<D>::zeros() };
+                let v_w = if mirrored {
+                    wall_vel[w]
+                } else {
+                    Vector::<D>::zeros()
+                };
                 scalar -= artificial_viscosity(vi - v_w, xiw, r2, 0.5 * (rho_i + wall_rho[w]));
             }
             acc += grad_w * (m * scalar);

@@ -254,7 +254,8 @@ impl<const D: usize> KdTreeSearch<D> {
 impl<const D: usize> NeighbourSearch<D> for KdTreeSearch<D> {
     fn rebuild_fluid(&mut self, fluid: &[SVector<f64, D>]) {
         self.scratch.clear();
-        self.scratch.extend(fluid.iter().map(|p| <[f64; D]>::from(*p)));
+        self.scratch
+            .extend(fluid.iter().map(|p| <[f64; D]>::from(*p)));
         self.fluid_tree = ImmutableKdTree::new_from_slice(&self.scratch).ok();
     }
 
@@ -276,5 +277,103 @@ impl<const D: usize> NeighbourSearch<D> for KdTreeSearch<D> {
                 .unsorted()
                 .visit(|r| visit(r.item as usize));
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Sorted indices within `radius` of `x` found through a backend's candidates.
+    fn within<const D: usize, S: NeighbourSearch<D>>(
+        search: &S,
+        points: &[SVector<f64, D>],
+        x: &SVector<f64, D>,
+        radius: f64,
+        fluid: bool,
+    ) -> Vec<usize> {
+        let mut found = Vec::new();
+        let mut visit = |j: usize| {
+            if (points[j] - x).norm_squared() < radius * radius {
+                found.push(j);
+            }
+        };
+        if fluid {
+            search.for_each_fluid_candidate(x, &mut visit);
+        } else {
+            search.for_each_wall_candidate(x, &mut visit);
+        }
+        found.sort_unstable();
+        found
+    }
+
+    /// Brute force: every point within the radius.
+    fn brute<const D: usize>(
+        points: &[SVector<f64, D>],
+        x: &SVector<f64, D>,
+        radius: f64,
+    ) -> Vec<usize> {
+        (0..points.len())
+            .filter(|&j| (points[j] - x).norm_squared() < radius * radius)
+            .collect()
+    }
+
+    /// Deterministic pseudo-random numbers in [0, 1) (xorshift), so the test needs no crate.
+    fn random_points<const D: usize>(n: usize, size: f64, seed: u64) -> Vec<SVector<f64, D>> {
+        let mut state = seed;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        (0..n)
+            .map(|_| SVector::<f64, D>::from_fn(|_, _| next() * size))
+            .collect()
+    }
+
+    /// Both backends return exactly the brute-force neighbour lists (exact: integer sets), for
+    /// random points and for lattice points (many exact ties at cell borders), in 2D and 3D,
+    /// as fluid and as wall sets.
+    fn check<const D: usize>(
+        points: Vec<SVector<f64, D>>,
+        queries: &[SVector<f64, D>],
+        radius: f64,
+    ) {
+        let lo = SVector::<f64, D>::from_element(-0.1);
+        let hi = SVector::<f64, D>::from_element(1.1);
+        let mut grid = CellGrid::new(lo, hi, radius, &points);
+        grid.rebuild_fluid(&points);
+        let mut tree = KdTreeSearch::new(radius, &points);
+        tree.rebuild_fluid(&points);
+        for x in queries {
+            let expected = brute(&points, x, radius);
+            for fluid in [true, false] {
+                assert_eq!(within(&grid, &points, x, radius, fluid), expected);
+                assert_eq!(within(&tree, &points, x, radius, fluid), expected);
+            }
+        }
+    }
+
+    #[test]
+    fn grid_and_kdtree_match_brute_force() {
+        let radius = 0.052;
+        // Random points in 2D and 3D.
+        let p2 = random_points::<2>(3000, 1.0, 7);
+        let q2 = random_points::<2>(300, 1.0, 11);
+        check(p2, &q2, radius);
+        let p3 = random_points::<3>(4000, 1.0, 13);
+        let q3 = random_points::<3>(200, 1.0, 17);
+        check(p3, &q3, 0.12);
+        // A lattice of spacing 0.02 queried at its own points.
+        let lattice: Vec<SVector<f64, 2>> = (0..50)
+            .flat_map(|i| {
+                (0..50).map(move |j| {
+                    SVector::<f64, 2>::new(0.01 + 0.02 * i as f64, 0.01 + 0.02 * j as f64)
+                })
+            })
+            .collect();
+        let queries: Vec<SVector<f64, 2>> = lattice.iter().step_by(7).copied().collect();
+        check(lattice, &queries, radius);
     }
 }

@@ -491,10 +491,28 @@ impl<const D: usize> Simulation<D> {
         let (step, time) = (self.step, self.time);
         match &self.search {
             Search::Grid(s) => self.loads.record_step(
-                s, &self.fluid, &self.walls, &kernel, mass, &self.params, body_force, step, time, dx,
+                s,
+                &self.fluid,
+                &self.walls,
+                &kernel,
+                mass,
+                &self.params,
+                body_force,
+                step,
+                time,
+                dx,
             ),
             Search::KdTree(s) => self.loads.record_step(
-                s, &self.fluid, &self.walls, &kernel, mass, &self.params, body_force, step, time, dx,
+                s,
+                &self.fluid,
+                &self.walls,
+                &kernel,
+                mass,
+                &self.params,
+                body_force,
+                step,
+                time,
+                dx,
             ),
         }
     }
@@ -505,10 +523,28 @@ impl<const D: usize> Simulation<D> {
         let step = self.step;
         match &self.search {
             Search::Grid(s) => self.loads.record_step(
-                s, &self.fluid, &self.walls, &kernel, mass, &self.params, body_force, step, time, dx,
+                s,
+                &self.fluid,
+                &self.walls,
+                &kernel,
+                mass,
+                &self.params,
+                body_force,
+                step,
+                time,
+                dx,
             ),
             Search::KdTree(s) => self.loads.record_step(
-                s, &self.fluid, &self.walls, &kernel, mass, &self.params, body_force, step, time, dx,
+                s,
+                &self.fluid,
+                &self.walls,
+                &kernel,
+                mass,
+                &self.params,
+                body_force,
+                step,
+                time,
+                dx,
             ),
         }
     }
@@ -540,7 +576,11 @@ impl<const D: usize> Simulation<D> {
         permute(&mut self.fluid.velocity_half, order, &mut self.scratch_vec);
         permute(&mut self.fluid.acceleration, order, &mut self.scratch_vec);
         permute(&mut self.fluid.density, order, &mut self.scratch_f64);
-        permute(&mut self.fluid.inverse_density, order, &mut self.scratch_f64);
+        permute(
+            &mut self.fluid.inverse_density,
+            order,
+            &mut self.scratch_f64,
+        );
         permute(&mut self.fluid.pressure, order, &mut self.scratch_f64);
         permute(&mut self.fluid.kernel_sum, order, &mut self.scratch_f64);
         permute(&mut self.fluid.strain_rate, order, &mut self.scratch_tensor);
@@ -624,10 +664,7 @@ impl<const D: usize> Simulation<D> {
                     (0, 1, Some(*x))
                 }
             })
-            .reduce(
-                || (0, 0, None),
-                |a, b| (a.0 + b.0, a.1 + b.1, a.2.or(b.2)),
-            );
+            .reduce(|| (0, 0, None), |a, b| (a.0 + b.0, a.1 + b.1, a.2.or(b.2)));
         if bad > 0 {
             return Err(SimError::NonFinite {
                 time: self.time + dt,

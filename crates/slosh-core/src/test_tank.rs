@@ -17,7 +17,12 @@ impl<const D: usize> TankInterior<D> for BoxInterior<D> {
 
 /// Closed box [0, size] with liquid up to `depth` (surface tilted by `tilt` m at x = 0),
 /// three wall layers, lattice spacing dx.
-pub fn box_tank<const D: usize>(size: [f64; D], depth: f64, tilt: f64, dx: f64) -> ParticleSetup<D> {
+pub fn box_tank<const D: usize>(
+    size: [f64; D],
+    depth: f64,
+    tilt: f64,
+    dx: f64,
+) -> ParticleSetup<D> {
     let layers = 3i64;
     let mut counts = [0i64; D];
     for k in 0..D {
@@ -25,14 +30,21 @@ pub fn box_tank<const D: usize>(size: [f64; D], depth: f64, tilt: f64, dx: f64) 
     }
     let mut fluid = Vec::new();
     let mut walls = Vec::new();
-    let (mut part, mut normal, mut area, mut layer) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut part, mut normal, mut area, mut layer) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut idx = [-layers; D];
     loop {
         let mut p = Vector::<D>::zeros();
         let mut outside = [0i64; D]; // signed layer distance per axis
         for k in 0..D {
             p[k] = (idx[k] as f64 + 0.5) * dx;
-            outside[k] = if idx[k] < 0 { idx[k] } else if idx[k] >= counts[k] { idx[k] - counts[k] + 1 } else { 0 };
+            outside[k] = if idx[k] < 0 {
+                idx[k]
+            } else if idx[k] >= counts[k] {
+                idx[k] - counts[k] + 1
+            } else {
+                0
+            };
         }
         let lay = outside.iter().map(|o| o.abs()).max().unwrap();
         if lay == 0 {
@@ -52,11 +64,23 @@ pub fn box_tank<const D: usize>(size: [f64; D], depth: f64, tilt: f64, dx: f64) 
             }
             let mut n = Vector::<D>::zeros();
             n[axis] = outside[axis].signum() as f64;
-            let pid = if axis == D - 1 { if outside[axis] < 0 { 0 } else { 2 } } else { 1 };
+            let pid = if axis == D - 1 {
+                if outside[axis] < 0 {
+                    0
+                } else {
+                    2
+                }
+            } else {
+                1
+            };
             part.push(pid);
             normal.push(n);
             let face = (0..D).filter(|&k| k != axis).all(|k| outside[k] == 0);
-            area.push(if lay == 1 && face { dx.powi(D as i32 - 1) } else { 0.0 });
+            area.push(if lay == 1 && face {
+                dx.powi(D as i32 - 1)
+            } else {
+                0.0
+            });
             layer.push(lay as u8);
         }
         let mut k = 0;
@@ -78,7 +102,10 @@ pub fn box_tank<const D: usize>(size: [f64; D], depth: f64, tilt: f64, dx: f64) 
                     interior_min: Vector::<D>::zeros(),
                     interior_max: hi,
                     fill_level: depth,
-                    interior: Box::new(BoxInterior { lo: Vector::<D>::zeros(), hi }),
+                    interior: Box::new(BoxInterior {
+                        lo: Vector::<D>::zeros(),
+                        hi,
+                    }),
                 };
             }
             idx[k] += 1;

@@ -1,7 +1,7 @@
 //! Solver-level physics checks on the test box tank.
 
 use crate::test_tank::box_tank;
-use crate::{NeighbourBackend, SphParams, Simulation, Vector};
+use crate::{NeighbourBackend, Simulation, SphParams, Vector};
 
 fn run_until<const D: usize>(sim: &mut Simulation<D>, t_end: f64) {
     while sim.time() < t_end {
@@ -35,7 +35,10 @@ fn backends_agree() {
         .into_iter()
         .map(|b| {
             let setup = box_tank::<2>([0.4, 0.4], 0.2, 0.02, 0.02);
-            let params = SphParams { neighbour_backend: b, ..SphParams::default() };
+            let params = SphParams {
+                neighbour_backend: b,
+                ..SphParams::default()
+            };
             Simulation::new(setup, params).unwrap()
         })
         .collect();
@@ -45,7 +48,13 @@ fn backends_agree() {
         }
     }
     let key = |s: &Simulation<2>| {
-        let mut v: Vec<(u32, f64)> = s.fluid().id.iter().copied().zip(s.fluid().density.iter().copied()).collect();
+        let mut v: Vec<(u32, f64)> = s
+            .fluid()
+            .id
+            .iter()
+            .copied()
+            .zip(s.fluid().density.iter().copied())
+            .collect();
         v.sort_by_key(|a| a.0);
         v
     };
@@ -68,17 +77,29 @@ fn explore_resonant_paper_case() {
     let mut max_eta: f64 = 0.0;
     while sim.time() < 7.0 {
         let t = sim.time();
-        let ag = if t < 2.0 { 0.0 } else { -a * w * w * (w * (t - 2.0)).sin() };
+        let ag = if t < 2.0 {
+            0.0
+        } else {
+            -a * w * w * (w * (t - 2.0)).sin()
+        };
         sim.step(Vector::<2>::new(ag, 0.0)).unwrap();
         if sim.time() >= next {
             let eta = sim.surface_level_at(&[0.02]).unwrap() - 0.5;
             max_eta = max_eta.max(eta);
-            eprintln!("t-2={:.2} eta_left={eta:.4} max={max_eta:.4} dt={:.2e}", sim.time() - 2.0, sim.last_dt());
+            eprintln!(
+                "t-2={:.2} eta_left={eta:.4} max={max_eta:.4} dt={:.2e}",
+                sim.time() - 2.0,
+                sim.last_dt()
+            );
             next += 0.25;
         }
     }
     let el = t0.elapsed().as_secs_f64();
-    eprintln!("steps {} wall {el:.1}s => {:.3e} particle-steps/s", sim.steps(), sim.steps() as f64 * 1250.0 / el);
+    eprintln!(
+        "steps {} wall {el:.1}s => {:.3e} particle-steps/s",
+        sim.steps(),
+        sim.steps() as f64 * 1250.0 / el
+    );
 }
 
 /// Exploration: throughput at dx = 0.005 (≈20k fluid particles).
@@ -88,13 +109,24 @@ fn explore_throughput() {
     for backend in [NeighbourBackend::CellGrid, NeighbourBackend::KdTree] {
         let setup = box_tank::<2>([1.0, 1.0], 0.5, 0.0, 0.005);
         let n = setup.fluid_positions.len() + setup.wall_positions.len();
-        let params = SphParams { neighbour_backend: backend, ..SphParams::default() };
+        let params = SphParams {
+            neighbour_backend: backend,
+            ..SphParams::default()
+        };
         let mut sim = Simulation::new(setup, params).unwrap();
-        for _ in 0..20 { sim.step(Vector::<2>::zeros()).unwrap(); }
+        for _ in 0..20 {
+            sim.step(Vector::<2>::zeros()).unwrap();
+        }
         let t0 = std::time::Instant::now();
         let steps = 300;
-        for _ in 0..steps { sim.step(Vector::<2>::zeros()).unwrap(); }
+        for _ in 0..steps {
+            sim.step(Vector::<2>::zeros()).unwrap();
+        }
         let el = t0.elapsed().as_secs_f64();
-        eprintln!("{backend:?}: {n} particles, {:.3e} particle-steps/s (fluid only {:.3e})", steps as f64 * n as f64 / el, steps as f64 * sim.fluid().position.len() as f64 / el);
+        eprintln!(
+            "{backend:?}: {n} particles, {:.3e} particle-steps/s (fluid only {:.3e})",
+            steps as f64 * n as f64 / el,
+            steps as f64 * sim.fluid().position.len() as f64 / el
+        );
     }
 }

@@ -105,7 +105,10 @@ impl Excitation {
             .map_err(|e| ScriptError::from_eval(&self.file, &e))?;
         if !value.is_unit() {
             let map = value.try_cast::<Map>().ok_or_else(|| {
-                ScriptError::case(&self.file, "post(run) must return a map of results (or nothing)")
+                ScriptError::case(
+                    &self.file,
+                    "post(run) must return a map of results (or nothing)",
+                )
             })?;
             for (k, v) in map {
                 let pv = ParamValue::from_dynamic(&v).unwrap_or(ParamValue::Str(v.to_string()));

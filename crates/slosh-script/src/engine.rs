@@ -176,15 +176,21 @@ pub(crate) fn build_engine(shared: Shared, globals: Globals, script_dir: PathBuf
             for (k, v) in columns.iter() {
                 header.push(k.to_string());
                 cols.push(dynamic_to_vec(v).ok_or_else(|| {
-                    runtime_error(format!("write_table: column '{k}' must be an array of numbers"))
+                    runtime_error(format!(
+                        "write_table: column '{k}' must be an array of numbers"
+                    ))
                 })?);
             }
             let n = cols.first().map(|c| c.len()).unwrap_or(0);
             if cols.iter().any(|c| c.len() != n) {
-                return Err(runtime_error("write_table: all columns must have the same length"));
+                return Err(runtime_error(
+                    "write_table: all columns must have the same length",
+                ));
             }
             check_file_stem(name)?;
-            let rows = (0..n).map(|i| cols.iter().map(|c| c[i]).collect()).collect();
+            let rows = (0..n)
+                .map(|i| cols.iter().map(|c| c[i]).collect())
+                .collect();
             s.lock()
                 .map_err(|_| runtime_error("internal lock"))?
                 .tables
@@ -202,10 +208,14 @@ pub(crate) fn build_engine(shared: Shared, globals: Globals, script_dir: PathBuf
               xs: Dynamic,
               ys: Dynamic|
               -> Result<(), Box<EvalAltResult>> {
-            let xs = dynamic_to_vec(&xs).ok_or_else(|| runtime_error("line_plot: xs must be an array of numbers"))?;
-            let ys = dynamic_to_vec(&ys).ok_or_else(|| runtime_error("line_plot: ys must be an array of numbers"))?;
+            let xs = dynamic_to_vec(&xs)
+                .ok_or_else(|| runtime_error("line_plot: xs must be an array of numbers"))?;
+            let ys = dynamic_to_vec(&ys)
+                .ok_or_else(|| runtime_error("line_plot: ys must be an array of numbers"))?;
             if xs.len() != ys.len() {
-                return Err(runtime_error("line_plot: xs and ys must have the same length"));
+                return Err(runtime_error(
+                    "line_plot: xs and ys must have the same length",
+                ));
             }
             check_file_stem(name)?;
             s.lock()

@@ -6,6 +6,13 @@
 //! started) and `fn post(run)` (post-processing). The engine is sandboxed: no module imports,
 //! no `eval`, limits on operations, call depth and sizes; files are read only through host
 //! functions, relative to the script's folder, and paths that leave it are refused.
+//!
+//! Ground motion in scripts: `load_record(path, #{units, dt, format})` reads a PEER AT2,
+//! K-NET or plain-text record (m/s², 1 g = 9.81 m/s²) with processing methods (`scale`,
+//! `scale_to_pga`, `remove_mean`, `detrend`, `bandpass`, `highpass`, `lowpass`, `trim`,
+//! `shift`) and `at(t)`; `sine(A, ω[, φ])` and `sines([[A, ω], ...])` give the paper's
+//! a_g(t) = +A ω² sin(ωt + φ); `+` adds records and sines. Every record read is listed as a
+//! [`MotionInfo`] (file, SHA-256, scaling, processing).
 
 mod case;
 mod engine;

@@ -291,7 +291,9 @@ pub(crate) fn register_motion_api(engine: &mut Engine, script_dir: PathBuf, log:
                     .map(|a| a.clone())
                     .filter(|a| a.len() == 2 || a.len() == 3)
                     .ok_or_else(|| {
-                        runtime_error(format!("{what} must be [A, omega] or [A, omega, phase], got {item}"))
+                        runtime_error(format!(
+                            "{what} must be [A, omega] or [A, omega, phase], got {item}"
+                        ))
                     })?;
                 sines.push(paper_sine(&parts, &what)?);
             }
@@ -304,13 +306,19 @@ pub(crate) fn register_motion_api(engine: &mut Engine, script_dir: PathBuf, log:
     });
     engine.register_fn(
         "scale",
-        |e: &mut ScriptExcitation, factor: Dynamic| -> Result<ScriptExcitation, Box<EvalAltResult>> {
+        |e: &mut ScriptExcitation,
+         factor: Dynamic|
+         -> Result<ScriptExcitation, Box<EvalAltResult>> {
             let factor = number(&factor, "scale(factor): factor")?;
             Ok(ScriptExcitation(Arc::new(scaled(&e.0, factor))))
         },
     );
-    engine.register_fn("to_string", |e: &mut ScriptExcitation| describe_excitation(&e.0));
-    engine.register_fn("to_debug", |e: &mut ScriptExcitation| describe_excitation(&e.0));
+    engine.register_fn("to_string", |e: &mut ScriptExcitation| {
+        describe_excitation(&e.0)
+    });
+    engine.register_fn("to_debug", |e: &mut ScriptExcitation| {
+        describe_excitation(&e.0)
+    });
 
     // Sums.
     engine.register_fn("+", |a: ScriptRecord, b: ScriptRecord| {
@@ -419,9 +427,8 @@ fn derive(
     op: impl FnOnce(&mut Record) -> slosh_motion::Result<f64>,
 ) -> Result<ScriptRecord, Box<EvalAltResult>> {
     let mut record = (*from.record).clone();
-    let factor = op(&mut record).map_err(|e| {
-        runtime_error(format!("{method} on the record \"{}\": {e}", from.file))
-    })?;
+    let factor = op(&mut record)
+        .map_err(|e| runtime_error(format!("{method} on the record \"{}\": {e}", from.file)))?;
     let scale_factor = from.scale_factor * factor;
     let version = next_version();
     let mut entries = log.lock().map_err(|_| runtime_error("internal lock"))?;
@@ -487,7 +494,9 @@ fn scaled(e: &Excitation, factor: f64) -> Excitation {
                 })
                 .collect(),
         ),
-        Excitation::Sum(parts) => Excitation::Sum(parts.iter().map(|p| scaled(p, factor)).collect()),
+        Excitation::Sum(parts) => {
+            Excitation::Sum(parts.iter().map(|p| scaled(p, factor)).collect())
+        }
     }
 }
 
@@ -529,7 +538,11 @@ fn describe_excitation(e: &Excitation) -> String {
             r.pga_m_s2()
         ),
         Excitation::Sine(s) => describe_sine(s),
-        Excitation::SineSum(list) => list.iter().map(describe_sine).collect::<Vec<_>>().join(" + "),
+        Excitation::SineSum(list) => list
+            .iter()
+            .map(describe_sine)
+            .collect::<Vec<_>>()
+            .join(" + "),
         Excitation::Sum(parts) => parts
             .iter()
             .map(describe_excitation)

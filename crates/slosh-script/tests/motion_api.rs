@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 
 const G: f64 = 9.81;
 /// The samples of the small AT2 file, in g, every 0.01 s.
-const SAMPLES_G: [f64; 10] = [0.0, 0.01, -0.02, 0.035, -0.05, 0.04, -0.025, 0.015, -0.005, 0.0];
+const SAMPLES_G: [f64; 10] = [
+    0.0, 0.01, -0.02, 0.035, -0.05, 0.04, -0.025, 0.015, -0.005, 0.0,
+];
 
 fn temp_dir(test: &str) -> PathBuf {
     let dir = std::env::temp_dir()
@@ -58,7 +60,12 @@ fn scaled_record_is_returned_at_its_sample_times() {
     for (i, v) in SAMPLES_G.iter().enumerate() {
         let t = i as f64 * 0.01;
         let a = case.excitation.ground_accel(t).unwrap();
-        assert!((a[0] - 2.5 * v * G).abs() < 1e-12, "t = {t}: {} vs {}", a[0], 2.5 * v * G);
+        assert!(
+            (a[0] - 2.5 * v * G).abs() < 1e-12,
+            "t = {t}: {} vs {}",
+            a[0],
+            2.5 * v * G
+        );
         assert_eq!((a[1], a[2]), (0.0, 0.0));
     }
     // Linear between samples, zero outside.
@@ -75,7 +82,11 @@ fn scaled_record_is_returned_at_its_sample_times() {
     assert_eq!((m.npts, m.dt_s, m.units.as_str()), (10, 0.01, "g"));
     assert!((m.scale_factor - 2.5).abs() < 1e-15);
     assert!((m.pga_m_s2 - 2.5 * 0.05 * G).abs() < 1e-12);
-    assert!(m.processing.last().unwrap().contains("scale by 2.5"), "{:?}", m.processing);
+    assert!(
+        m.processing.last().unwrap().contains("scale by 2.5"),
+        "{:?}",
+        m.processing
+    );
 }
 
 #[test]
@@ -103,8 +114,14 @@ if later.npts() != 5 { throw "trim " + later; }
     assert!((peak - 3.0).abs() < 1e-12, "peak {peak}");
     // Two branches from the same file: two log entries, each with its own chain.
     assert_eq!(case.motions.len(), 2, "{:?}", case.motions);
-    assert!(case.motions[0].processing.iter().any(|p| p.starts_with("scale_to_pga 3")));
-    assert!(case.motions[1].processing.iter().any(|p| p.starts_with("trim")));
+    assert!(case.motions[0]
+        .processing
+        .iter()
+        .any(|p| p.starts_with("scale_to_pga 3")));
+    assert!(case.motions[1]
+        .processing
+        .iter()
+        .any(|p| p.starts_with("trim")));
     assert_eq!(case.motions[1].scale_factor, 1.0);
 }
 
@@ -124,7 +141,11 @@ fn sines_use_the_papers_sign_and_add_to_records() {
     for t in [0.0, 0.01, 0.05, 0.37, 1.0] {
         let g = case.excitation.ground_accel(t).unwrap();
         let paper = a * w * w * (w * t).sin();
-        assert!((g[0] - paper).abs() < 1e-12, "sine at {t}: {} vs {paper}", g[0]);
+        assert!(
+            (g[0] - paper).abs() < 1e-12,
+            "sine at {t}: {} vs {paper}",
+            g[0]
+        );
         let sum = paper + 0.002 * 100.0 * (10.0 * t + 0.25).sin();
         assert!((g[1] - sum).abs() < 1e-12);
         let rec = if t <= 0.09 {
@@ -135,7 +156,11 @@ fn sines_use_the_papers_sign_and_add_to_records() {
             0.0
         };
         let expected = a * w * w * (w * t + 0.5).sin() + rec + paper;
-        assert!((g[2] - expected).abs() < 1e-12, "sum at {t}: {} vs {expected}", g[2]);
+        assert!(
+            (g[2] - expected).abs() < 1e-12,
+            "sum at {t}: {} vs {expected}",
+            g[2]
+        );
     }
 }
 
@@ -160,18 +185,27 @@ fn paths_leaving_the_script_folder_are_refused() {
     assert!(msg.contains("sub/../../small.at2"), "{msg}");
 
     let abs = std::env::temp_dir().join("small.at2");
-    let msg = load_error("absolute", &format!("let gm = load_record(\"{}\");", abs.display()));
+    let msg = load_error(
+        "absolute",
+        &format!("let gm = load_record(\"{}\");", abs.display()),
+    );
     assert!(msg.contains(&abs.display().to_string()), "{msg}");
     assert!(msg.contains("may only read files"), "{msg}");
 }
 
 #[test]
 fn missing_and_bad_files_are_named() {
-    let msg = load_error("missing", "\n\nlet gm = load_record(\"records/missing.at2\");");
+    let msg = load_error(
+        "missing",
+        "\n\nlet gm = load_record(\"records/missing.at2\");",
+    );
     assert!(msg.contains("missing.at2"), "{msg}");
     assert!(msg.contains("case.rhai:3:"), "{msg}");
 
-    let msg = load_error("units", "let gm = load_record(\"small.at2\", #{ units: \"gal\" });");
+    let msg = load_error(
+        "units",
+        "let gm = load_record(\"small.at2\", #{ units: \"gal\" });",
+    );
     assert!(msg.contains("small.at2") && msg.contains("in g"), "{msg}");
 
     let dir = temp_dir("plain");
@@ -187,8 +221,14 @@ fn missing_and_bad_files_are_named() {
     let mut case = load(&path).unwrap();
     assert!((case.excitation.ground_accel(0.01).unwrap()[0] - 0.002).abs() < 1e-15);
 
-    let msg = load_error("typo", "let gm = load_record(\"small.at2\", #{ unit: \"g\" });");
+    let msg = load_error(
+        "typo",
+        "let gm = load_record(\"small.at2\", #{ unit: \"g\" });",
+    );
     assert!(msg.contains("unit") && msg.contains("small.at2"), "{msg}");
-    let msg = load_error("bad-pga", "let gm = load_record(\"small.at2\").scale_to_pga(-1.0);");
+    let msg = load_error(
+        "bad-pga",
+        "let gm = load_record(\"small.at2\").scale_to_pga(-1.0);",
+    );
     assert!(msg.contains("small.at2") && msg.contains("PGA"), "{msg}");
 }

@@ -162,7 +162,11 @@ pub(crate) fn fmt_num(x: f64) -> String {
     }
     let a = x.abs();
     if a == 0.0 || (1e-3..1e5).contains(&a) {
-        let digits = if a == 0.0 { 0 } else { (3 - a.log10().floor() as i32).max(0) as usize };
+        let digits = if a == 0.0 {
+            0
+        } else {
+            (3 - a.log10().floor() as i32).max(0) as usize
+        };
         format!("{x:.digits$}")
     } else {
         format!("{x:.3e}")
@@ -215,7 +219,9 @@ impl ValidationReport {
     }
     /// Rows that failed.
     pub fn failures(&self) -> Vec<&Check> {
-        self.checks().filter(|c| c.verdict == Verdict::Fail).collect()
+        self.checks()
+            .filter(|c| c.verdict == Verdict::Fail)
+            .collect()
     }
 }
 
@@ -232,22 +238,25 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
     let mut groups: Vec<(String, GroupResult)> = Vec::new();
     let stage = |name: &str| {
         if opts.verbose {
-            eprintln!(
-                "[validate {:6.1} s] {name}",
-                start.elapsed().as_secs_f64()
-            );
+            eprintln!("[validate {:6.1} s] {name}", start.elapsed().as_secs_f64());
         }
     };
     stage("paper case §3.1: hydrostatic, resonant response, Housner pressure, base shear");
     groups.extend(sloshing::paper_forced_case(&ctx));
     stage("off-resonance forced response");
-    groups.push(("Linear forced response, off resonance".into(), sloshing::off_resonance(&ctx)));
+    groups.push((
+        "Linear forced response, off resonance".into(),
+        sloshing::off_resonance(&ctx),
+    ));
     stage("free sloshing, three tanks");
     groups.push(("Free-sloshing period".into(), sloshing::free_sloshing(&ctx)));
     stage("dam break: front");
     groups.push(("Dam break: surge front".into(), dambreak::front(&ctx)));
     stage("dam break: wall pressure");
-    groups.push(("Dam break: wall pressure".into(), dambreak::wall_pressure(&ctx)));
+    groups.push((
+        "Dam break: wall pressure".into(),
+        dambreak::wall_pressure(&ctx),
+    ));
     stage("resolution study");
     groups.push(("Resolution study".into(), resolution::study(&ctx)));
     stage("writing the report");

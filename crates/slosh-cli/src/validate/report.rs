@@ -31,9 +31,13 @@ pub fn write_report(report: &ValidationReport, path: &Path) -> Result<()> {
     let mut md = String::new();
     let n = report.checks().count();
     let failed = report.failures().len();
-    let passed = report.checks().filter(|c| c.verdict == Verdict::Pass).count();
+    let passed = report
+        .checks()
+        .filter(|c| c.verdict == Verdict::Pass)
+        .count();
     let _ = writeln!(md, "# slosh validation report\n");
-    let _ = writeln!(
+    let _ =
+        writeln!(
         md,
         "Command: `slosh validate{} --out {}` · scheme: the paper's (`SphParams::default()`) · \
          {} checks: {passed} PASS, {failed} FAIL, {} INFO · wall time {:.0} s · slosh {}\n",

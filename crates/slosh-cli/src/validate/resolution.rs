@@ -24,7 +24,11 @@ const RESONANT_BAND: (f64, f64) = (0.6, 1.1);
 
 /// Runs the study.
 pub fn study(ctx: &Context) -> GroupResult {
-    let spacings: &[f64] = if ctx.quick { &[0.02, 0.01] } else { &[0.02, 0.01, 0.005] };
+    let spacings: &[f64] = if ctx.quick {
+        &[0.02, 0.01]
+    } else {
+        &[0.02, 0.01, 0.005]
+    };
     let mut g = GroupResult::default();
     let group = "Resolution";
     let mut period_err = Vec::new();
@@ -35,10 +39,17 @@ pub fn study(ctx: &Context) -> GroupResult {
         match free_period(ctx, WIDTH, DEPTH, dx, 1.4) {
             Ok(r) => {
                 period_err.push((dx, r.measured / r.reference - 1.0));
-                g.checks.push(r.check(group, &format!("free-sloshing T₁, dx = {dx} m (H/dx = {:.0})", DEPTH / dx)));
+                g.checks.push(r.check(
+                    group,
+                    &format!("free-sloshing T₁, dx = {dx} m (H/dx = {:.0})", DEPTH / dx),
+                ));
                 g.particle_steps += r.particle_steps;
             }
-            Err(e) => g.checks.push(failed_run(group, &format!("period, dx = {dx} m"), &format!("{e:#}"))),
+            Err(e) => g.checks.push(failed_run(
+                group,
+                &format!("period, dx = {dx} m"),
+                &format!("{e:#}"),
+            )),
         }
         match resonant(ctx, dx) {
             Ok(r) => {
@@ -57,7 +68,11 @@ pub fn study(ctx: &Context) -> GroupResult {
                 curves.push((format!("SPH dx = {dx} m"), r.t.clone(), r.eta.clone()));
                 theory_curve.get_or_insert((r.t, r.theory));
             }
-            Err(e) => g.checks.push(failed_run(group, &format!("resonant, dx = {dx} m"), &format!("{e:#}"))),
+            Err(e) => g.checks.push(failed_run(
+                group,
+                &format!("resonant, dx = {dx} m"),
+                &format!("{e:#}"),
+            )),
         }
     }
     let trend = |v: &[(f64, f64)]| {

@@ -10,7 +10,6 @@ use super::{
     failed_run, fmt_num, info_row, plot_path, ratio_band_check, relative_check, GroupResult,
     PlotRef,
 };
-use slosh_core::PART_WALL;
 use slosh_io::{line_plot, scatter_with_identity, PlotSpec, Series};
 use slosh_theory::housner;
 use slosh_theory::linear::RectangularTank;
@@ -71,14 +70,15 @@ pub fn paper_forced_case(ctx: &Context) -> Vec<(String, GroupResult)> {
             .iter()
             .map(|t| {
                 let mut g = GroupResult::default();
-                g.checks.push(failed_run(t, "paper §3.1 run", &format!("{e:#}")));
+                g.checks
+                    .push(failed_run(t, "paper §3.1 run", &format!("{e:#}")));
                 (t.to_string(), g)
             })
             .collect(),
     }
 }
 
-/// A snapshot of the time-windowed wall pressures.
+/// A snapshot of the fluid particles' pressures (paper Fig. 4 plots every particle).
 struct WallSnapshot {
     time: f64,
     positions: Vec<(f64, f64)>,
@@ -94,12 +94,7 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
     };
     let mut runner = Runner::new(sim, excitation, SAMPLE);
     let still = runner.still_level;
-    let wall_part = runner
-        .sim
-        .part_names()
-        .iter()
-        .position(|n| n == PART_WALL)
-        .unwrap_or(1) as u16;
+
     // Snapshot times after the excitation start: 3.0 s always, 7.0 s in the full suite.
     let targets: Vec<f64> = if ctx.quick { vec![3.0] } else { vec![3.0, 7.0] };
     let t_end = PAPER_SETTLE + targets.last().copied().unwrap_or(3.0) + 0.05;
@@ -117,23 +112,13 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
         }
         let next = snaps.len();
         if next < targets.len() {
-            if let Some(c) = r.sim.loads().centred() {
-                if c.time >= PAPER_SETTLE + targets[next] {
-                    let l = r.sim.loads();
-                    let (pos, pres): (Vec<(f64, f64)>, Vec<f64>) = l
-                        .positions()
-                        .iter()
-                        .zip(l.parts())
-                        .zip(l.centred_pressure())
-                        .filter(|((_, &part), _)| part == wall_part)
-                        .map(|((p, _), &pr)| ((p.x, p.y), pr))
-                        .unzip();
-                    snaps.push(WallSnapshot {
-                        time: c.time,
-                        positions: pos,
-                        pressure: pres,
-                    });
-                }
+            if r.sim.time() >= PAPER_SETTLE + targets[next] {
+                let f = r.sim.fluid();
+                snaps.push(WallSnapshot {
+                    time: r.sim.time(),
+                    positions: f.position.iter().map(|p| (p.x, p.y)).collect(),
+                    pressure: f.pressure.clone(),
+                });
             }
         }
     })?;
@@ -182,7 +167,9 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
             caption: "particle pressure against ρ g d after settling, with p = ρ g d".into(),
         });
     } else {
-        g_hydro.checks.push(failed_run(group, "hydrostatic slope", "no snapshot taken"));
+        g_hydro
+            .checks
+            .push(failed_run(group, "hydrostatic slope", "no snapshot taken"));
     }
     g_hydro.notes.push(format!(
         "Paper §3.1 tank (1.0 m wide, 0.5 m water, roof at 1.0 m), dx = 0.02 m, paper scheme \
@@ -201,7 +188,10 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
             if t < 0.0 {
                 0.0
             } else {
-                theory.elevation(&sine_response(&theory, force, PAPER_OMEGA, t, MODES), gauge.0)
+                theory.elevation(
+                    &sine_response(&theory, force, PAPER_OMEGA, t, MODES),
+                    gauge.0,
+                )
             }
         })
         .collect();
@@ -217,8 +207,18 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
         "undamped linear theory must lie above the SPH crest; SPEC §4 prototype: 0.7–0.86; \
          below 0.6 = excess numerical damping, above 1.1 = spurious energy",
     ));
-    let (sph_trough, _) = max_in_window(&te, &h.eta_left.iter().map(|v| -v).collect::<Vec<_>>(), 0.0, 3.0);
-    let (lin_trough, _) = max_in_window(&te, &theory_eta.iter().map(|v| -v).collect::<Vec<_>>(), 0.0, 3.0);
+    let (sph_trough, _) = max_in_window(
+        &te,
+        &h.eta_left.iter().map(|v| -v).collect::<Vec<_>>(),
+        0.0,
+        3.0,
+    );
+    let (lin_trough, _) = max_in_window(
+        &te,
+        &theory_eta.iter().map(|v| -v).collect::<Vec<_>>(),
+        0.0,
+        3.0,
+    );
     g_res.checks.push(info_row(
         group,
         "deepest trough at the left wall, first 3 s",
@@ -261,7 +261,8 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
     );
     g_res.plots.push(PlotRef {
         file: format!("{stem}.png"),
-        caption: "η at the left wall, SPH against linear theory, A = 0.0093 m, ω = 5.311 rad/s".into(),
+        caption: "η at the left wall, SPH against linear theory, A = 0.0093 m, ω = 5.311 rad/s"
+            .into(),
     });
     g_res.notes.push(
         "Gauge one lattice spacing inside the left wall (as `slosh run`); theory evaluated at the \
@@ -286,12 +287,24 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
         let below = (still - y).max(0.0);
         RHO * GRAVITY * below
             + housner::impulsive_pressure(RHO, f, depth_still, l, xc, below)
-            + housner::convective_pressure(RHO, l, depth_still, omega_h, slope_at(t_sim), xc, y.max(0.0))
+            + housner::convective_pressure(
+                RHO,
+                l,
+                depth_still,
+                omega_h,
+                slope_at(t_sim),
+                xc,
+                y.max(0.0),
+            )
     };
     let mut scatter: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
     for (k, &target) in targets.iter().enumerate() {
         let Some(s) = snaps.get(k) else {
-            g_hou.checks.push(failed_run(group, &format!("{target} s"), "no snapshot taken"));
+            g_hou.checks.push(failed_run(
+                group,
+                &format!("{target} s"),
+                "no snapshot taken",
+            ));
             continue;
         };
         let mut xs = Vec::new();
@@ -304,7 +317,7 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
         }
         let (slope, r2) = slope_through_origin(&xs, &ys);
         let name = format!(
-            "fit slope of wall p against Housner at {target:.1} s after start (R² = {r2:.3})"
+            "fit slope of particle p against Housner at {target:.1} s after start (R² = {r2:.3})"
         );
         if k == 0 {
             g_hou.checks.push(relative_check(
@@ -347,19 +360,20 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
     let _ = scatter_with_identity(
         plot_path(out, stem),
         &PlotSpec::new(
-            "Side-wall pressure against Housner (paper Fig. 4)",
+            "Particle pressure against Housner (paper Fig. 4)",
             "Housner p = ρgd + impulsive + convective (Pa)",
-            "SPH wall pressure, ±20-step window (Pa)",
+            "SPH particle pressure (Pa)",
         ),
         &series,
     );
     g_hou.plots.push(PlotRef {
         file: format!("{stem}.png"),
-        caption: "time-windowed side-wall pressure against Housner (Eq. 24–26)".into(),
+        caption: "fluid particle pressure against Housner (Eq. 24–26), as the paper's Fig. 4"
+            .into(),
     });
     g_hou.notes.push(
-        "Wall pressure: the load points of the side walls (nearest fluid particle, Eq. 23 \
-         smoothing, ±20-step window, paper §2.6) below the still level. Housner: hydrostatic + \
+        "Pressure of every fluid particle below the still level, as in the paper's Fig. 4 \
+         (instantaneous EOS pressure). Housner: hydrostatic + \
          Eq. 25 with the applied body force + Eq. 26 with the surface slope measured in the SPH \
          ((η_right − η_left)/gauge distance), ω from Housner's own formula."
             .into(),
@@ -383,7 +397,8 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
         t_b.push(t);
         v_sph.push(h.base_shear[k]);
         v_lin.push(theory.base_shear(&s));
-        v_hou.push(m_i * f + housner::convective_base_shear(RHO, l, omega_h, slope_at(h.load_t[k])));
+        v_hou
+            .push(m_i * f + housner::convective_base_shear(RHO, l, omega_h, slope_at(h.load_t[k])));
     }
     let window = |ys: &[f64], a: f64, b: f64| -> Vec<f64> {
         t_b.iter()
@@ -413,7 +428,9 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
     let nrms = rms(&window(&diff, 0.0, t_hi)) / rms(&window(&v_hou, 0.0, t_hi));
     g_bs.checks.push(Check {
         group: group.into(),
-        name: format!("normalised RMS difference of V(t) (0.1 s running mean) against Housner, 0–{t_hi:.0} s"),
+        name: format!(
+            "normalised RMS difference of V(t) (0.1 s running mean) against Housner, 0–{t_hi:.0} s"
+        ),
         measured: format!("{nrms:.3}"),
         reference: "0".into(),
         error: format!("{:.1} %", 100.0 * nrms),
@@ -474,7 +491,8 @@ pub fn off_resonance(ctx: &Context) -> GroupResult {
         Ok(g) => g,
         Err(e) => {
             let mut g = GroupResult::default();
-            g.checks.push(failed_run("Off resonance", "run", &format!("{e:#}")));
+            g.checks
+                .push(failed_run("Off resonance", "run", &format!("{e:#}")));
             g
         }
     }
@@ -622,9 +640,15 @@ pub fn free_sloshing(ctx: &Context) -> GroupResult {
     let mut g = GroupResult::default();
     let mut curves: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
     for &(w, d) in &FREE_TANKS {
-        match free_period(ctx, w, d, PAPER_DX, if ctx.quick { 1.4 } else { 2.4 }) {
+        match free_period(ctx, w, d, PAPER_DX, if ctx.quick { 1.6 } else { 2.6 }) {
             Ok(r) => {
-                g.checks.push(r.check("Free sloshing", &format!("T₁, tank {w} × {d} m (W/H = {:.0}), dx = {PAPER_DX} m", w / d)));
+                g.checks.push(r.check(
+                    "Free sloshing",
+                    &format!(
+                        "T₁, tank {w} × {d} m (W/H = {:.0}), dx = {PAPER_DX} m",
+                        w / d
+                    ),
+                ));
                 g.particle_steps += r.particle_steps;
                 curves.push((format!("W/H = {:.0} SPH", w / d), r.t_scaled, r.eta_scaled));
                 if g.notes.is_empty() {
@@ -640,7 +664,11 @@ pub fn free_sloshing(ctx: &Context) -> GroupResult {
                 }
                 g.notes.push(r.note);
             }
-            Err(e) => g.checks.push(failed_run("Free sloshing", &format!("tank {w} × {d} m"), &format!("{e:#}"))),
+            Err(e) => g.checks.push(failed_run(
+                "Free sloshing",
+                &format!("tank {w} × {d} m"),
+                &format!("{e:#}"),
+            )),
         }
     }
     let stem = "free_sloshing";
@@ -702,7 +730,13 @@ impl FreePeriod {
 /// β₁(t) = (2/L) ∫ η cos(k₁x′) dx′ (midpoint rule), which removes the higher modes of the
 /// initial linear tilt (n = 3 carries 11 % of it and would shift single zero crossings by
 /// ≈ 2–3 %); the period is taken from the zero crossings of β₁.
-pub fn free_period(ctx: &Context, width: f64, depth: f64, dx: f64, periods: f64) -> anyhow::Result<FreePeriod> {
+pub fn free_period(
+    ctx: &Context,
+    width: f64,
+    depth: f64,
+    dx: f64,
+    periods: f64,
+) -> anyhow::Result<FreePeriod> {
     let tilt = 0.1 * depth;
     // Open tank, walls 0.2 m above the still surface (whole multiples of dx).
     let tank_height = ((depth + 0.2) / dx).round() * dx;
@@ -718,14 +752,20 @@ pub fn free_period(ctx: &Context, width: f64, depth: f64, dx: f64, periods: f64)
     ));
     let n_gauges = 10;
     let k1 = std::f64::consts::PI / width;
-    let gauges: Vec<f64> = (0..n_gauges).map(|i| (i as f64 + 0.5) * width / n_gauges as f64).collect();
+    let gauges: Vec<f64> = (0..n_gauges)
+        .map(|i| (i as f64 + 0.5) * width / n_gauges as f64)
+        .collect();
     let (mut ts, mut beta) = (Vec::new(), Vec::new());
     let mut next = 0.0;
     let still = runner.still_level;
     let project = |r: &Runner, ts: &mut Vec<f64>, beta: &mut Vec<f64>| {
         let mut sum = 0.0;
         for &x in &gauges {
-            let eta = r.sim.surface_level_at(&[x]).map(|z| z - still).unwrap_or(0.0);
+            let eta = r
+                .sim
+                .surface_level_at(&[x])
+                .map(|z| z - still)
+                .unwrap_or(0.0);
             sum += eta * (k1 * x).cos();
         }
         ts.push(r.sim.time());
@@ -739,7 +779,7 @@ pub fn free_period(ctx: &Context, width: f64, depth: f64, dx: f64, periods: f64)
         }
     })?;
     let beta0 = beta[0];
-    let measured = period_from_crossings(&zero_crossings(&ts, &beta, 0.3 * beta0.abs()));
+    let measured = period_from_crossings(&zero_crossings(&ts, &beta, 0.2 * beta0.abs()));
     let note = format!(
         "Tank {width} × {depth:.3} m, dx = {dx} m: T₁ = {t1:.4} s, SPH {measured:.4} s \
          (initial first-mode amplitude {beta0:.4} m)."
