@@ -700,20 +700,17 @@ fn run_one(exe: &Path, case: &Path, p: &Planned, threads: usize) -> Done {
         Err(e) => return fail(format!("cannot start {}: {e}", exe.display()), None),
     };
     let summary = read_summary(&summary_path).ok();
-    if status.success() {
-        if let Some(s) = summary.as_ref().filter(|s| s.completed()) {
-            let _ = s;
-            return Done {
-                outcome: CaseOutcome {
-                    folder: p.folder.clone(),
-                    values: p.values.clone(),
-                    status: CaseStatus::Completed,
-                    error: None,
-                    wall_time_s: elapsed,
-                },
-                summary,
-            };
-        }
+    if status.success() && summary.as_ref().is_some_and(ReadSummary::completed) {
+        return Done {
+            outcome: CaseOutcome {
+                folder: p.folder.clone(),
+                values: p.values.clone(),
+                status: CaseStatus::Completed,
+                error: None,
+                wall_time_s: elapsed,
+            },
+            summary,
+        };
     }
     let log_text = std::fs::read_to_string(&log_path).unwrap_or_default();
     let error = error_message(&log_text)

@@ -81,6 +81,46 @@ fn dam_break_sim(
     Ok(Simulation::new(setup, paper_params())?)
 }
 
+/// Leading edge of the surge (m) on the line y = `y_line` just above the floor: the largest x
+/// where the fluid kernel sum Σ (m/ρ) W falls to half its value at `x_ref` inside the liquid on
+/// the same line — the same definition of the liquid's edge as the wave gauges use vertically
+/// (half the kernel is wet at the edge), so a lone particle ahead of the toe does not count.
+fn front_position(sim: &Simulation<2>, y_line: f64, x_ref: f64) -> f64 {
+    let kernel = sim.kernel();
+    let support = kernel.support();
+    let mass = sim.particle_mass();
+    let fluid = sim.fluid();
+    let near: Vec<(f64, f64, f64)> = fluid
+        .position
+        .iter()
+        .zip(&fluid.density)
+        .filter(|(p, _)| (p.y - y_line).abs() < support)
+        .map(|(p, rho)| (p.x, p.y, mass / rho))
+        .collect();
+    let sum = |x: f64| -> f64 {
+        near.iter()
+            .map(|&(px, py, v)| v * kernel.value(((px - x).powi(2) + (py - y_line).powi(2)).sqrt()))
+            .sum()
+    };
+    let target = 0.5 * sum(x_ref);
+    let step = 0.25 * sim.spacing();
+    let mut hi = near.iter().fold(x_ref, |m, p| m.max(p.0)) + support;
+    let mut lo = hi - step;
+    while lo > x_ref && sum(lo) < target {
+        hi = lo;
+        lo -= step;
+    }
+    for _ in 0..30 {
+        let mid = 0.5 * (lo + hi);
+        if sum(mid) >= target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 /// Surge front against Martin & Moyce and Koshizuka & Oka.
 pub fn front(ctx: &Context) -> GroupResult {
     match front_inner(ctx) {
@@ -114,10 +154,8 @@ fn front_inner(ctx: &Context) -> Result<GroupResult> {
         steps += n_all;
         if sim.time() >= next {
             next += 0.002;
-            // Leading edge: the furthest particle centre plus half a lattice cell.
-            let x_max = sim.fluid().position.iter().fold(0.0f64, |m, p| m.max(p.x));
             ts.push(sim.time() * t_scale);
-            zs.push((x_max + 0.5 * FRONT_DX) / a);
+            zs.push(front_position(&sim, 0.5 * FRONT_DX, 0.5 * a) / a);
         }
     }
     let mut g = GroupResult::default();
