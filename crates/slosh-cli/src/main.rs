@@ -22,6 +22,9 @@ struct Cli {
 enum Command {
     /// Run a case script and write series.csv, summary.ron, frames and plots.
     Run(RunArgs),
+    /// Run a case over the cartesian product of parameter values (parallel, resumable) into
+    /// one sub-folder per case plus sweep.csv.
+    Sweep(SweepArgs),
     /// Closed-form numbers for a tank (natural periods, masses, Housner, code wave height).
     Theory(TheoryArgs),
     /// Run the validation suite; writes DIR/report.md and plots; exit code 1 on any FAIL.
@@ -55,6 +58,30 @@ struct RunArgs {
     #[arg(long)]
     threads: Option<usize>,
     /// No progress bar and no summary line.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(Args)]
+struct SweepArgs {
+    /// The case script (.rhai).
+    case: PathBuf,
+    /// Values of one parameter: NAME=V1,V2,... or NAME=START:STOP:STEP (STOP included).
+    /// Repeat for more parameters; the first --vary varies slowest.
+    #[arg(long = "vary", value_name = "NAME=VALUES", required = true)]
+    vary: Vec<String>,
+    /// Sweep folder (default: out/<case-name>-sweep).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Cases run at once, each with cores/jobs threads (default 0: one per core, up to the
+    /// number of cases).
+    #[arg(long, default_value_t = 0)]
+    jobs: usize,
+    /// Plot columns of sweep.csv after the sweep: X:Y1,Y2[:GROUP1+GROUP2] (repeatable),
+    /// e.g. tank_height:max_roof_p:smoothing_steps.
+    #[arg(long = "plot", value_name = "X:Y[:GROUP]")]
+    plot: Vec<String>,
+    /// Report failures only: no progress lines and no closing table.
     #[arg(long)]
     quiet: bool,
 }
@@ -99,6 +126,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => cmd_run(args),
+        Command::Sweep(args) => cmd_sweep(args),
         Command::Theory(args) => cmd_theory(args),
         Command::Validate(args) => match slosh_cli::validate::cli_validate(args.quick, args.out) {
             Ok(true) => Ok(()),
@@ -171,6 +199,46 @@ fn cmd_run(args: RunArgs) -> Result<()> {
         plots: true,
     };
     run_case(case, &opts)?;
+    Ok(())
+}
+
+fn cmd_sweep(args: SweepArgs) -> Result<()> {
+    use slosh_cli::sweep_plot::{draw, SweepPlot};
+    // Check the plot requests before running anything.
+    let plots: Vec<SweepPlot> = args
+        .plot
+        .iter()
+        .map(|p| SweepPlot::parse(p))
+        .collect::<Result<_>>()?;
+    let exe = std::env::current_exe()
+        .context("cannot find the slosh executable that runs the cases of the sweep")?;
+    let outcome = slosh_cli::sweep::cli_sweep(
+        &exe,
+        &args.case,
+        &args.vary,
+        args.out,
+        args.jobs,
+        args.quiet,
+    )?;
+    for plot in &plots {
+        let title = format!(
+            "{} — {}",
+            args.case.file_stem().unwrap_or_default().to_string_lossy(),
+            plot.file_stem()
+        );
+        let stem = draw(&outcome.csv, plot, &title)?;
+        if !args.quiet {
+            eprintln!("plot: {}.png", stem.display());
+        }
+    }
+    let failed = outcome.failed();
+    if failed > 0 {
+        bail!(
+            "{failed} of {} cases failed; the errors are in the error column of {} and in each failed case's run.log",
+            outcome.cases.len(),
+            outcome.csv.display()
+        );
+    }
     Ok(())
 }
 

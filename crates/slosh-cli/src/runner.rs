@@ -113,8 +113,14 @@ pub struct Summary {
     pub kurihara_at_max: f64,
     /// Malhotra (Eq. 27) at the impact with the largest SPH roof pressure (Pa).
     pub malhotra_at_max: f64,
+    /// Ground-motion records the script read (file, hash, scaling, processing).
+    pub motions: Vec<slosh_script::MotionInfo>,
+    /// Response spectrum of the applied x acceleration with the codes' wave heights.
+    pub input_spectrum: Option<crate::spectrum::SpectrumSummary>,
     /// Results of the script's `post(run)`.
     pub post: Vec<(String, ParamValue)>,
+    /// The error of the script's `post(run)` when it failed (the run's other outputs stand).
+    pub post_error: Option<String>,
 }
 
 /// Closed-form numbers written beside the SPH result.
@@ -530,7 +536,10 @@ fn run_loop<const D: usize>(
         impacts: Vec::new(),
         kurihara_at_max: 0.0,
         malhotra_at_max: 0.0,
+        motions: case.motions.clone(),
+        input_spectrum: None,
         post: Vec::new(),
+        post_error: None,
     };
     if roof.has_roof() {
         let column = |name: &str| col(name).cloned().unwrap_or_default();
@@ -556,6 +565,13 @@ fn run_loop<const D: usize>(
             roof.write_fig7(out, summary.t_max_roof_p, settle)?;
         }
     }
+    if failure.is_none() {
+        let max_eta = summary.max_eta_left.max(summary.max_eta_right);
+        match crate::spectrum::write_case_input_spectrum(out, case, summary.theory.period_1, max_eta) {
+            Ok(s) => summary.input_spectrum = s,
+            Err(e) => eprintln!("warning: input spectrum not written: {e:#}"),
+        }
+    }
     // Post-processing hook of the script (keeps the other outputs when it fails).
     let mut post_error = None;
     if case.excitation.has_post() {
@@ -566,7 +582,10 @@ fn run_loop<const D: usize>(
                 summary.post = result.values.clone();
                 crate::post::write_post_outputs(out, &result)?;
             }
-            Err(e) => post_error = Some(e),
+            Err(e) => {
+                summary.post_error = Some(e.to_string());
+                post_error = Some(e);
+            }
         }
     }
     slosh_io::write_ron(out.join("summary.ron"), &summary)?;

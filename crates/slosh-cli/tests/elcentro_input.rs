@@ -21,7 +21,14 @@ fn elcentro_2d_applies_the_scaled_record() {
         .arg(root.join("scripts/elcentro_2d.rhai"))
         .arg("--out")
         .arg(&out)
-        .args(["--set", "dx=0.1", "--set", "dt=0.001", "--set", "duration=4.5"])
+        .args([
+            "--set",
+            "dx=0.1",
+            "--set",
+            "dt=0.001",
+            "--set",
+            "duration=4.5",
+        ])
         .args(["--set", "frame_interval=0", "--set", "pga=3.0", "--quiet"])
         .status()
         .unwrap();
@@ -49,8 +56,14 @@ fn elcentro_2d_applies_the_scaled_record() {
             on_samples += 1;
         }
     }
-    assert!(on_samples >= 120, "only {on_samples} rows on the record's samples");
-    assert!((peak - 0.31882 * g * scale).abs() < 1e-9 * pga, "peak {peak}");
+    assert!(
+        on_samples >= 120,
+        "only {on_samples} rows on the record's samples"
+    );
+    assert!(
+        (peak - 0.31882 * g * scale).abs() < 1e-9 * pga,
+        "peak {peak}"
+    );
 
     assert!(out.join("input_spectrum.csv").exists());
     assert!(out.join("plots/input_spectrum.png").exists());

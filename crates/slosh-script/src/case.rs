@@ -194,6 +194,8 @@ pub struct Case {
     pub gauges: Vec<GaugeSpec>,
     /// Script functions for the run.
     pub excitation: Excitation,
+    /// Ground-motion records the script read (for `summary.ron`).
+    pub motions: Vec<crate::MotionInfo>,
 }
 
 impl Case {
@@ -307,6 +309,7 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
     let has_post = has_fn("post", 1);
     let params = d.params.clone();
     let gauges = d.gauges.clone();
+    let motions = d.motions.lock().expect("motion log").clone();
     drop(d);
     Ok(Case {
         name,
@@ -318,6 +321,7 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
         dx,
         run,
         gauges,
+        motions,
         excitation: Excitation {
             engine,
             ast,

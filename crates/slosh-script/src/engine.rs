@@ -28,6 +28,8 @@ pub(crate) struct Declared {
     pub tables: Vec<(String, Vec<String>, Vec<Vec<f64>>)>,
     /// Line plots requested by `post`.
     pub plots: Vec<PlotRequest>,
+    /// Ground-motion records read by the script.
+    pub motions: crate::motion_api::MotionLog,
 }
 
 /// A line plot asked for by a script (`line_plot(name, title, xlabel, ylabel, xs, ys)`).
@@ -61,6 +63,7 @@ fn runtime_error(message: impl Into<String>) -> Box<EvalAltResult> {
 /// resolver that lets script functions read the script's top-level variables (`globals`).
 pub(crate) fn build_engine(shared: Shared, globals: Globals, script_dir: PathBuf) -> Engine {
     let mut engine = Engine::new();
+    let motions = shared.lock().expect("script state").motions.clone();
     // Sandbox: limits against runaway scripts; no eval; modules are compiled out.
     engine.set_max_operations(20_000_000);
     engine.set_max_call_levels(64);
@@ -233,7 +236,7 @@ pub(crate) fn build_engine(shared: Shared, globals: Globals, script_dir: PathBuf
         },
     );
     // File access for later host functions: relative to the script's folder only.
-    let _ = script_dir;
+    crate::motion_api::register_motion_api(&mut engine, script_dir, motions);
     engine
 }
 
