@@ -484,9 +484,12 @@ impl SolverBytes {
             + b(&f.pressure)
             + b(&f.kernel_sum)
             + b(&f.strain_rate)
-            + b(&f.id);
+            + b(&f.id)
+            + b(&f.inverse_density)
+            + f.neighbours.heap_bytes();
         let walls = b(&w.position)
             + b(&w.density)
+            + b(&w.inverse_density)
             + b(&w.pressure)
             + b(&w.nearest_fluid)
             + b(&w.part)

@@ -29,6 +29,21 @@ enum Command {
     Theory(TheoryArgs),
     /// Run the validation suite; writes DIR/report.md and plots; exit code 1 on any FAIL.
     Validate(ValidateArgs),
+    /// Throughput benchmark: fixed 2D and 3D cases, particle-steps/s, phases, memory.
+    Bench(BenchArgs),
+}
+
+#[derive(Args)]
+struct BenchArgs {
+    /// Only the ≈20k 2D and ≈100k 3D cases, grid backend (under a minute).
+    #[arg(long)]
+    quick: bool,
+    /// Output folder for bench.csv (default: out/bench).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Thread counts to time, comma-separated (default: all cores, then 1).
+    #[arg(long, value_delimiter = ',')]
+    threads: Option<Vec<usize>>,
 }
 
 #[derive(Args)]
@@ -128,6 +143,7 @@ fn main() -> ExitCode {
         Command::Run(args) => cmd_run(args),
         Command::Sweep(args) => cmd_sweep(args),
         Command::Theory(args) => cmd_theory(args),
+        Command::Bench(args) => slosh_cli::bench::cli_bench(args.quick, args.out, args.threads),
         Command::Validate(args) => match slosh_cli::validate::cli_validate(args.quick, args.out) {
             Ok(true) => Ok(()),
             Ok(false) => {
@@ -213,12 +229,7 @@ fn cmd_sweep(args: SweepArgs) -> Result<()> {
     let exe = std::env::current_exe()
         .context("cannot find the slosh executable that runs the cases of the sweep")?;
     let outcome = slosh_cli::sweep::cli_sweep(
-        &exe,
-        &args.case,
-        &args.vary,
-        args.out,
-        args.jobs,
-        args.quiet,
+        &exe, &args.case, &args.vary, args.out, args.jobs, args.quiet,
     )?;
     for plot in &plots {
         let title = format!(

@@ -567,7 +567,12 @@ fn run_loop<const D: usize>(
     }
     if failure.is_none() {
         let max_eta = summary.max_eta_left.max(summary.max_eta_right);
-        match crate::spectrum::write_case_input_spectrum(out, case, summary.theory.period_1, max_eta) {
+        match crate::spectrum::write_case_input_spectrum(
+            out,
+            case,
+            summary.theory.period_1,
+            max_eta,
+        ) {
             Ok(s) => summary.input_spectrum = s,
             Err(e) => eprintln!("warning: input spectrum not written: {e:#}"),
         }

@@ -244,10 +244,19 @@ fn failing_post_reports_the_line_and_keeps_outputs() {
     let dir = temp("post_throws");
     let case = small_case(&dir, "0.0", "fn post(run) {\n    throw \"no result\";\n}");
     let out = dir.join("out");
-    let (ok, err) = run(&["run", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet"]);
+    let (ok, err) = run(&[
+        "run",
+        case.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
     assert!(!ok);
     // `throw` is on line 13 of the generated script.
-    assert!(err.contains("case.rhai:13:") && err.contains("no result"), "{err}");
+    assert!(
+        err.contains("case.rhai:13:") && err.contains("no result"),
+        "{err}"
+    );
     assert!(out.join("series.csv").exists());
     let summary = std::fs::read_to_string(out.join("summary.ron")).unwrap();
     assert!(summary.contains("post_error: Some("), "{summary}");

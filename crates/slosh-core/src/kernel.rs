@@ -80,6 +80,13 @@ impl Kernel {
         }
     }
 
+    /// W(r) and (dW/dr)/r together, with one evaluation of q = r/h (the density pass needs
+    /// both for every pair). Equal to `(self.value(r), self.gradient_factor(r))`.
+    #[inline(always)]
+    pub fn value_and_gradient_factor(&self, r: f64) -> (f64, f64) {
+        (self.value(r), self.gradient_factor(r))
+    }
+
     /// (dW/dr)/r (1/m^(D+2)), so that ∇_i W_ij = x_ij · gradient_factor(r_ij).
     #[inline(always)]
     pub fn gradient_factor(&self, r: f64) -> f64 {

@@ -35,6 +35,8 @@ pub trait NeighbourSearch<const D: usize>: Send + Sync {
 pub struct CellGrid<const D: usize> {
     origin: SVector<f64, D>,
     inv_cell: f64,
+    /// Cells visited on each side of a point's cell (cells are support/REACH wide).
+    reach: usize,
     dims: [usize; D],
     /// cell_start[c]..cell_start[c+1] is the range of `fluid_entries` in cell c.
     fluid_cell_start: Vec<u32>,
@@ -46,14 +48,18 @@ pub struct CellGrid<const D: usize> {
 }
 
 impl<const D: usize> CellGrid<D> {
-    /// Grid with cells of size `cell_size` (m, at least the kernel support) covering
-    /// [lower, upper], with the fixed wall particles indexed once.
+    /// Grid for neighbours within `support` (m) covering [lower, upper], with the fixed wall
+    /// particles indexed once. Cells are half the support wide and a search visits two cells
+    /// on each side: in 3D the 5³ cells of side h hold 42 % fewer candidates than the 3³ cells
+    /// of side 2h (2D: 30 % fewer), for the same exact neighbour set.
     pub fn new(
         lower: SVector<f64, D>,
         upper: SVector<f64, D>,
-        cell_size: f64,
+        support: f64,
         walls: &[SVector<f64, D>],
     ) -> Self {
+        let reach = 2;
+        let cell_size = support / reach as f64;
         let mut dims = [1usize; D];
         for (k, dim) in dims.iter_mut().enumerate() {
             *dim = (((upper[k] - lower[k]) / cell_size).ceil() as usize).max(1) + 1;
@@ -62,6 +68,7 @@ impl<const D: usize> CellGrid<D> {
         let mut grid = CellGrid {
             origin: lower,
             inv_cell: 1.0 / cell_size,
+            reach,
             dims,
             fluid_cell_start: vec![0; n_cells + 1],
             fluid_entries: Vec::new(),
@@ -147,16 +154,17 @@ impl<const D: usize> CellGrid<D> {
     }
 
     /// Calls `visit(begin, end)` for each contiguous run of cells around `x` (one run per
-    /// row of 3 cells along the first axis).
+    /// row of 2·reach + 1 cells along the first axis).
     #[inline(always)]
     fn for_each_row<F: FnMut(usize, usize)>(&self, x: &SVector<f64, D>, mut visit: F) {
         let c = self.cell_coords(x);
-        let x_lo = c[0].saturating_sub(1);
-        let x_hi = (c[0] + 1).min(self.dims[0] - 1);
-        // Iterate over the 3^(D-1) rows in the other axes.
+        let reach = self.reach as i64;
+        let x_lo = c[0].saturating_sub(self.reach);
+        let x_hi = (c[0] + self.reach).min(self.dims[0] - 1);
+        // Iterate over the (2·reach + 1)^(D-1) rows in the other axes.
         let mut offsets = [0i64; D];
         for o in offsets.iter_mut().skip(1) {
-            *o = -1;
+            *o = -reach;
         }
         loop {
             let mut ok = true;
@@ -180,10 +188,10 @@ impl<const D: usize> CellGrid<D> {
                     return;
                 }
                 offsets[k] += 1;
-                if offsets[k] <= 1 {
+                if offsets[k] <= reach {
                     break;
                 }
-                offsets[k] = -1;
+                offsets[k] = -reach;
                 k += 1;
             }
         }

@@ -32,6 +32,38 @@ pub type Tensor<const D: usize> = SMatrix<f64, D, D>;
 /// Chunk length for rayon loops: large enough to amortise scheduling.
 const PAR_CHUNK: usize = 256;
 
+/// Marks a wall particle in a neighbour list (the low 31 bits hold its index).
+const WALL_NEIGHBOUR: u32 = 1 << 31;
+/// Count value meaning "the list overflowed: search again".
+const LIST_OVERFLOW: u16 = u16::MAX;
+
+/// Per-particle neighbour lists filled by the density pass and read by the force pass, so the
+/// force pass does not scan and reject the grid's candidates again (in 3D only ≈ 15 % of the
+/// 27-cell candidates are neighbours). Fixed capacity per particle, allocated once; a particle
+/// with more neighbours is marked and searched again.
+#[derive(Clone, Debug, Default)]
+pub struct NeighbourLists {
+    capacity: usize,
+    entries: Vec<u32>,
+    count: Vec<u16>,
+}
+
+impl NeighbourLists {
+    /// Lists for `n` particles with room for `capacity` neighbours each.
+    fn new(n: usize, capacity: usize) -> Self {
+        NeighbourLists {
+            capacity,
+            entries: vec![0; n * capacity],
+            count: vec![LIST_OVERFLOW; n],
+        }
+    }
+
+    /// Bytes held by the lists.
+    pub fn heap_bytes(&self) -> usize {
+        self.entries.len() * 4 + self.count.len() * 2
+    }
+}
+
 /// Fluid particles, struct of arrays. Index i is the same particle in every array; the order
 /// changes when particles are re-sorted by cell (`id` keeps the original index).
 #[derive(Clone, Debug, Default)]
@@ -59,6 +91,8 @@ pub struct Fluid<const D: usize> {
     pub density_rate: Vec<f64>,
     /// Original particle index (stable through re-sorting).
     pub id: Vec<u32>,
+    /// Neighbours found by the last density pass (fluid and wall, within the support).
+    pub neighbours: NeighbourLists,
 }
 
 /// Fixed wall particles, struct of arrays.
@@ -331,6 +365,8 @@ impl<const D: usize> Simulation<D> {
             strain_rate: vec![Tensor::<D>::zeros(); n],
             density_rate: vec![0.0; n],
             id: (0..n as u32).collect(),
+            // 2D: ≈ 21 neighbours within 2.6 dx; 3D: ≈ 74 (more in compressed or splashing flow).
+            neighbours: NeighbourLists::new(n, if D == 2 { 48 } else { 128 }),
         };
         let walls = Walls {
             density: vec![params.rest_density; n_wall],
@@ -868,51 +904,75 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
         let inv_rho = &fluid.inverse_density;
         let wall_pos = &walls.position;
         let wall_inv_rho = &walls.inverse_density;
+        let capacity = fluid.neighbours.capacity;
         next_density
             .par_iter_mut()
             .zip(fluid.kernel_sum.par_iter_mut())
             .zip(fluid.strain_rate.par_iter_mut())
+            .zip(fluid.neighbours.entries.par_chunks_mut(capacity))
+            .zip(fluid.neighbours.count.par_iter_mut())
             .enumerate()
             .with_min_len(PAR_CHUNK)
-            .for_each(|(i, ((rho_out, ksum_out), strain_out))| {
-                let xi = pos[i];
-                let vi = vel[i];
-                let mut rho_sum = 0.0;
-                let mut kernel_sum = 0.0;
-                // Velocity gradient G_ab = Σ (m/ρ_j)(v_j − v_i)_a ∂W/∂x_i,b (Eq. 5 terms).
-                let mut grad_v = Tensor::<D>::zeros();
-                search.for_each_fluid_candidate(&xi, |j| {
-                    let xij = xi - pos[j];
-                    let r2 = xij.norm_squared();
-                    if r2 < c.support_sq {
-                        let r = r2.sqrt();
-                        let w = kernel.value(r);
-                        let volume = m * inv_rho[j];
-                        rho_sum += m * w;
-                        kernel_sum += volume * w;
-                        let grad_w = xij * kernel.gradient_factor(r);
-                        grad_v += (vel[j] - vi) * (grad_w * volume).transpose();
+            .for_each(
+                |(i, ((((rho_out, ksum_out), strain_out), list), count_out))| {
+                    let xi = pos[i];
+                    let vi = vel[i];
+                    let mut listed = 0usize;
+                    let mut overflow = false;
+                    let mut rho_sum = 0.0;
+                    let mut kernel_sum = 0.0;
+                    // Velocity gradient G_ab = Σ (m/ρ_j)(v_j − v_i)_a ∂W/∂x_i,b (Eq. 5 terms).
+                    let mut grad_v = Tensor::<D>::zeros();
+                    search.for_each_fluid_candidate(&xi, |j| {
+                        let xij = xi - pos[j];
+                        let r2 = xij.norm_squared();
+                        if r2 < c.support_sq {
+                            let r = r2.sqrt();
+                            let (w, grad_factor) = kernel.value_and_gradient_factor(r);
+                            let volume = m * inv_rho[j];
+                            rho_sum += m * w;
+                            kernel_sum += volume * w;
+                            let grad_w = xij * grad_factor;
+                            grad_v += (vel[j] - vi) * (grad_w * volume).transpose();
+                            if listed < capacity {
+                                list[listed] = j as u32;
+                                listed += 1;
+                            } else {
+                                overflow = true;
+                            }
+                        }
+                    });
+                    search.for_each_wall_candidate(&xi, |w_idx| {
+                        let xiw = xi - wall_pos[w_idx];
+                        let r2 = xiw.norm_squared();
+                        if r2 < c.support_sq {
+                            let w = kernel.value(r2.sqrt());
+                            rho_sum += m * w;
+                            kernel_sum += m * wall_inv_rho[w_idx] * w;
+                            if listed < capacity {
+                                list[listed] = w_idx as u32 | WALL_NEIGHBOUR;
+                                listed += 1;
+                            } else {
+                                overflow = true;
+                            }
+                        }
+                    });
+                    *count_out = if overflow {
+                        LIST_OVERFLOW
+                    } else {
+                        listed as u16
+                    };
+                    *rho_out = rho_sum;
+                    *ksum_out = kernel_sum;
+                    // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
+                    let trace = grad_v.trace();
+                    let mut v_tensor = grad_v + grad_v.transpose();
+                    for k in 0..D {
+                        v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
                     }
-                });
-                search.for_each_wall_candidate(&xi, |w_idx| {
-                    let xiw = xi - wall_pos[w_idx];
-                    let r2 = xiw.norm_squared();
-                    if r2 < c.support_sq {
-                        let w = kernel.value(r2.sqrt());
-                        rho_sum += m * w;
-                        kernel_sum += m * wall_inv_rho[w_idx] * w;
-                    }
-                });
-                *rho_out = rho_sum;
-                *ksum_out = kernel_sum;
-                // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
-                let trace = grad_v.trace();
-                let mut v_tensor = grad_v + grad_v.transpose();
-                for k in 0..D {
-                    v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
-                }
-                *strain_out = v_tensor;
-            });
+                    *strain_out = v_tensor;
+                },
+            );
     }
     {
         let pos = &fluid.position;
@@ -1021,6 +1081,12 @@ fn force_pass<const D: usize, S: NeighbourSearch<D>>(
             0.0
         }
     };
+    let lists = &fluid.neighbours;
+    let capacity = lists.capacity;
+    let wall_pos = &walls.position;
+    let wall_rho = &walls.density;
+    let wall_inv_rho = &walls.inverse_density;
+    let wall_p = &walls.pressure;
     fluid
         .acceleration
         .par_iter_mut()
@@ -1034,7 +1100,7 @@ fn force_pass<const D: usize, S: NeighbourSearch<D>>(
             let p_i = p[i];
             let strain_i = strain[i];
             let mut acc = Vector::<D>::zeros();
-            search.for_each_fluid_candidate(&xi, |j| {
+            let fluid_term = |acc: &mut Vector<D>, j: usize| {
                 if j == i {
                     return;
                 }
@@ -1052,17 +1118,13 @@ fn force_pass<const D: usize, S: NeighbourSearch<D>>(
                 if av_on {
                     scalar -= artificial_viscosity(vi - vel[j], xij, r2, 0.5 * (rho_i + rho_j));
                 }
-                acc += grad_w * (m * scalar);
+                *acc += grad_w * (m * scalar);
                 if viscous {
                     // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W.
-                    acc += (strain_i + strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
+                    *acc += (strain_i + strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
                 }
-            });
-            let wall_pos = &walls.position;
-            let wall_rho = &walls.density;
-            let wall_inv_rho = &walls.inverse_density;
-            let wall_p = &walls.pressure;
-            search.for_each_wall_candidate(&xi, |w| {
+            };
+            let wall_term = |acc: &mut Vector<D>, w: usize| {
                 let xiw = xi - wall_pos[w];
                 let r2 = xiw.norm_squared();
                 if r2 >= c.support_sq {
@@ -1078,11 +1140,25 @@ fn force_pass<const D: usize, S: NeighbourSearch<D>>(
                 if av_on {
                     scalar -= artificial_viscosity(vi, xiw, r2, 0.5 * (rho_i + rho_w));
                 }
-                acc += grad_w * (m * scalar);
+                *acc += grad_w * (m * scalar);
                 if viscous {
-                    acc += strain_i * grad_w * (m * c.viscosity * inv_rho_iw);
+                    *acc += strain_i * grad_w * (m * c.viscosity * inv_rho_iw);
                 }
-            });
+            };
+            let count = lists.count[i];
+            if count != LIST_OVERFLOW {
+                // The density pass's list: the same neighbours in the same order as a search.
+                for &entry in &lists.entries[i * capacity..i * capacity + count as usize] {
+                    if entry & WALL_NEIGHBOUR == 0 {
+                        fluid_term(&mut acc, entry as usize);
+                    } else {
+                        wall_term(&mut acc, (entry & !WALL_NEIGHBOUR) as usize);
+                    }
+                }
+            } else {
+                search.for_each_fluid_candidate(&xi, |j| fluid_term(&mut acc, j));
+                search.for_each_wall_candidate(&xi, |w| wall_term(&mut acc, w));
+            }
             *acc_out = acc + body_force;
         });
 }

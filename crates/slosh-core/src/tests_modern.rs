@@ -66,10 +66,13 @@ fn paper_run_3d() -> Vec<u64> {
 /// 300 steps of a sloshing 2D box and 100 steps of a 3D box under a varying ground
 /// acceleration, compared by the raw bits of density, position and velocity sums, the largest
 /// wall-load pressure, the summed wall density and the time (recorded with
-/// `print_paper_fingerprints` on the code before issue 7).
+/// `print_paper_fingerprints` on the code before issue 7). Since the neighbour grid changed
+/// (cells of h instead of 2h) the neighbours are summed in another order, so the results are
+/// compared within round-off: 1e-9 relative after 300 steps (observed ≤ 2e-12; a change of
+/// physics moves these sums by far more).
 #[test]
 fn paper_scheme_unchanged() {
-    assert_eq!(
+    assert_within_roundoff(
         paper_run_2d(),
         vec![
             4686111422276112877,
@@ -77,10 +80,10 @@ fn paper_scheme_unchanged() {
             4620371257310559874,
             4656763910125384472,
             4688461039301316636,
-            4589903455283922866
-        ]
+            4589903455283922866,
+        ],
     );
-    assert_eq!(
+    assert_within_roundoff(
         paper_run_3d(),
         vec![
             4687821807634079451,
@@ -88,9 +91,20 @@ fn paper_scheme_unchanged() {
             4626863973515163110,
             4657567742936700002,
             4702199742855703306,
-            4582663923102519742
-        ]
+            4582663923102519742,
+        ],
     );
+}
+
+fn assert_within_roundoff(measured: Vec<u64>, recorded: Vec<u64>) {
+    assert_eq!(measured.len(), recorded.len());
+    for (m, r) in measured.iter().zip(&recorded) {
+        let (m, r) = (f64::from_bits(*m), f64::from_bits(*r));
+        assert!(
+            (m - r).abs() <= 1e-9 * r.abs().max(1e-300),
+            "fingerprint {m} differs from the recorded {r} beyond round-off"
+        );
+    }
 }
 
 /// Records the fingerprints (run once before the modern parts were added; the constants of
