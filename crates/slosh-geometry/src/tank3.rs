@@ -1035,6 +1035,37 @@ fn build_mesh_tank(spec: &MeshTankSpec, dx: f64) -> Result<ParticleSetup<3>, Geo
     };
     let span = spec.tilt_span;
     let surface_z = |x: f64| fill_level + tilt * (1.0 - 2.0 * (x - span[0]) / (span[1] - span[0]));
+    // The tilted surface on the lattice: each column (i, j) holds a whole number of rows,
+    // chosen by error diffusion along x so that the staircase follows the tilted plane on
+    // average — a tilt smaller than dx then still gives the right first-mode content, where
+    // cutting the lattice at the plane would leave the surface flat.
+    let i_lo = (span[0] / dx).floor() as i64 - 1;
+    let i_hi = (span[1] / dx).ceil() as i64 + 1;
+    let j_lo = (spec.interior_min[1] / dx).floor() as i64 - 1;
+    let j_hi = (spec.interior_max[1] / dx).ceil() as i64 + 1;
+    let row_len = (i_hi - i_lo + 1) as usize;
+    let mut column_tops = vec![fill_level; row_len * (j_hi - j_lo + 1) as usize];
+    if tilt != 0.0 {
+        for row in column_tops.chunks_mut(row_len) {
+            let mut carried = 0.0;
+            for (ii, top) in row.iter_mut().enumerate() {
+                let x = ((i_lo + ii as i64) as f64 + 0.5) * dx;
+                let target_rows = surface_z(x) / dx;
+                let rows = (target_rows + carried).round();
+                carried += target_rows - rows;
+                *top = rows * dx;
+            }
+        }
+    }
+    let column_top = |x: f64, y: f64| -> f64 {
+        let i = (x / dx).floor() as i64;
+        let j = (y / dx).floor() as i64;
+        if (i_lo..=i_hi).contains(&i) && (j_lo..=j_hi).contains(&j) {
+            column_tops[(j - j_lo) as usize * row_len + (i - i_lo) as usize]
+        } else {
+            surface_z(x)
+        }
+    };
 
     // classify block by block
     const B: i64 = 8;
@@ -1067,7 +1098,7 @@ fn build_mesh_tank(spec: &MeshTankSpec, dx: f64) -> Result<ParticleSetup<3>, Geo
             }
         }
         if tank_inside && !in_solid {
-            return (x.z < surface_z(x.x)).then_some(Class::Fluid(x));
+            return (x.z < column_top(x.x, x.y)).then_some(Class::Fluid(x));
         }
         let (d, b, q) = best?;
         let (part, normal) = b.tag(x, &q, dx)?;
@@ -1109,7 +1140,7 @@ fn build_mesh_tank(spec: &MeshTankSpec, dx: f64) -> Result<ParticleSetup<3>, Geo
                         for j in j0..j1 {
                             for i in i0..i1 {
                                 let x = point(i, j, k);
-                                if x.z < surface_z(x.x) {
+                                if x.z < column_top(x.x, x.y) {
                                     out.push(Class::Fluid(x));
                                 }
                             }

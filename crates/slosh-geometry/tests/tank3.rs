@@ -549,3 +549,35 @@ fn example_meshes_in_the_repository_build() {
     assert_eq!(s.fluid_positions.len(), cone.fluid_positions.len());
     assert!(rel(part_area(&s, 2), PI * 0.5 * (0.25f64 + 0.04).sqrt()) < 2e-3);
 }
+
+/// A tilt smaller than the spacing still tilts the lattice surface: error diffusion gives the
+/// left half more liquid than the right (here a quarter-spacing tilt at dx = 0.04 m).
+#[test]
+fn sub_spacing_tilt_moves_liquid_to_the_left() {
+    use slosh_geometry::{CylinderTank, Roof};
+    let dx = 0.04;
+    let flat = CylinderTank::new(0.5, 0.6, 0.5, Roof::None)
+        .build(dx)
+        .unwrap();
+    let tilted = CylinderTank::new(0.5, 0.6, 0.5, Roof::None)
+        .with_initial_tilt(0.01)
+        .build(dx)
+        .unwrap();
+    let left = |s: &slosh_core::ParticleSetup<3>| {
+        s.fluid_positions.iter().filter(|p| p.x < 0.0).count() as f64
+    };
+    let right = |s: &slosh_core::ParticleSetup<3>| {
+        s.fluid_positions.iter().filter(|p| p.x > 0.0).count() as f64
+    };
+    eprintln!(
+        "flat {} / {}, tilted {} / {}",
+        left(&flat),
+        right(&flat),
+        left(&tilted),
+        right(&tilted)
+    );
+    // Expected excess volume on the left: ∫ tilt·(−x/R) over the left half-disc ≈ (2/3) tilt R²,
+    // i.e. ≈ 26 particles of dx³ at these numbers; accept 10–45 (staircase rounding).
+    let excess = (left(&tilted) - right(&tilted)) / 2.0;
+    assert!((10.0..=45.0).contains(&excess), "excess {excess}");
+}
