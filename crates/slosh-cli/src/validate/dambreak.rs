@@ -158,8 +158,10 @@ fn front_inner(ctx: &Context) -> Result<GroupResult> {
             zs.push(front_position(&sim, 0.5 * FRONT_DX, 0.5 * a) / a);
         }
     }
-    let mut g = GroupResult::default();
-    g.particle_steps = steps;
+    let mut g = GroupResult {
+        particle_steps: steps,
+        ..GroupResult::default()
+    };
     let group = "Dam-break front";
     let mut plot_data: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
     for (label, text) in [
@@ -305,8 +307,10 @@ fn wall_pressure_inner(ctx: &Context) -> Result<GroupResult> {
             }
         }
     }
-    let mut g = GroupResult::default();
-    g.particle_steps = steps;
+    let mut g = GroupResult {
+        particle_steps: steps,
+        ..GroupResult::default()
+    };
     let group = "Dam-break pressure";
     let mut data_sets = Vec::new();
     for (k, (label, _, text)) in probes.iter().enumerate() {

@@ -276,7 +276,7 @@ pub fn slope_through_origin(xs: &[f64], ys: &[f64]) -> (f64, f64) {
 pub fn max_in_window(ts: &[f64], ys: &[f64], t0: f64, t1: f64) -> (f64, f64) {
     let mut best = (f64::NAN, f64::NAN);
     for (&t, &y) in ts.iter().zip(ys) {
-        if t >= t0 && t <= t1 && y.is_finite() && !(y <= best.0) {
+        if t >= t0 && t <= t1 && y.is_finite() && (best.0.is_nan() || y > best.0) {
             best = (y, t);
         }
     }

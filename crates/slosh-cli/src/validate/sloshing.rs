@@ -111,15 +111,13 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
             hydro = Some((depth, f.pressure.clone()));
         }
         let next = snaps.len();
-        if next < targets.len() {
-            if r.sim.time() >= PAPER_SETTLE + targets[next] {
-                let f = r.sim.fluid();
-                snaps.push(WallSnapshot {
-                    time: r.sim.time(),
-                    positions: f.position.iter().map(|p| (p.x, p.y)).collect(),
-                    pressure: f.pressure.clone(),
-                });
-            }
+        if next < targets.len() && r.sim.time() >= PAPER_SETTLE + targets[next] {
+            let f = r.sim.fluid();
+            snaps.push(WallSnapshot {
+                time: r.sim.time(),
+                positions: f.position.iter().map(|p| (p.x, p.y)).collect(),
+                pressure: f.pressure.clone(),
+            });
         }
     })?;
     let h = runner.history.clone();
