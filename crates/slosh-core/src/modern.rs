@@ -349,40 +349,15 @@ impl<const D: usize> Simulation<D> {
     fn check_particles(&self, dt: f64) -> Result<(), SimError> {
         let lo = self.domain_min;
         let hi = self.domain_max;
-        let (bad, outside, first_out) = self
+        let status = self
             .fluid
             .position
             .par_iter()
             .zip(self.fluid.velocity.par_iter())
             .with_min_len(PAR_CHUNK)
-            .map(|(x, v)| {
-                if !x.iter().chain(v.iter()).all(|c| c.is_finite()) {
-                    return (1usize, 0usize, None);
-                }
-                if (0..D).all(|k| x[k] >= lo[k] && x[k] <= hi[k]) {
-                    (0, 0, None)
-                } else {
-                    (0, 1, Some(*x))
-                }
-            })
-            .reduce(|| (0, 0, None), |a, b| (a.0 + b.0, a.1 + b.1, a.2.or(b.2)));
-        if bad > 0 {
-            return Err(SimError::NonFinite {
-                time: self.time + dt,
-                step: self.step + 1,
-                count: bad,
-            });
-        }
-        if outside > 0 {
-            let p = first_out.unwrap_or_else(Vector::<D>::zeros);
-            return Err(SimError::LeftDomain {
-                time: self.time + dt,
-                step: self.step + 1,
-                count: outside,
-                position: format!("{:?} m", p.as_slice()),
-            });
-        }
-        Ok(())
+            .map(|(x, v)| particle_status(x, v, &lo, &hi))
+            .reduce(|| (0, 0, None), merge_status);
+        self.blow_up_check(dt, status)
     }
 
     /// Density stage: summation (Eq. 19–20, the paper's pass, which also sums the dynamic

@@ -677,7 +677,7 @@ impl<const D: usize> Simulation<D> {
         let kick = 0.5 * (dt + dt_previous);
         let lo = self.domain_min;
         let hi = self.domain_max;
-        let (bad, outside, first_out) = self
+        let status = self
             .fluid
             .position
             .par_iter_mut()
@@ -689,18 +689,19 @@ impl<const D: usize> Simulation<D> {
                 *vh += kick * a;
                 *x += dt * *vh;
                 *v = *vh + 0.5 * dt * a;
-                let finite = x.iter().chain(vh.iter()).all(|c| c.is_finite());
-                if !finite {
-                    return (1usize, 0usize, None);
-                }
-                let inside = (0..D).all(|k| x[k] >= lo[k] && x[k] <= hi[k]);
-                if inside {
-                    (0, 0, None)
-                } else {
-                    (0, 1, Some(*x))
-                }
+                particle_status(x, vh, &lo, &hi)
             })
-            .reduce(|| (0, 0, None), |a, b| (a.0 + b.0, a.1 + b.1, a.2.or(b.2)));
+            .reduce(|| (0, 0, None), merge_status);
+        self.blow_up_check(dt, status)
+    }
+
+    /// Turns the particle counts of [`particle_status`] into the blow-up error of the step
+    /// that ends at time + dt.
+    pub(crate) fn blow_up_check(
+        &self,
+        dt: f64,
+        (bad, outside, first_out): ParticleStatus<D>,
+    ) -> Result<(), SimError> {
         if bad > 0 {
             return Err(SimError::NonFinite {
                 time: self.time + dt,
@@ -866,6 +867,36 @@ impl<const D: usize> Simulation<D> {
     pub fn max_speed(&self) -> f64 {
         self.max_speed_and_acceleration().0
     }
+}
+
+/// (non-finite particles, particles outside the domain, the first one outside).
+pub(crate) type ParticleStatus<const D: usize> = (usize, usize, Option<Vector<D>>);
+
+/// Classifies one particle after an update: non-finite position or velocity, or outside the
+/// domain box [lo, hi].
+#[inline(always)]
+pub(crate) fn particle_status<const D: usize>(
+    x: &Vector<D>,
+    v: &Vector<D>,
+    lo: &Vector<D>,
+    hi: &Vector<D>,
+) -> ParticleStatus<D> {
+    if !x.iter().chain(v.iter()).all(|c| c.is_finite()) {
+        return (1, 0, None);
+    }
+    if (0..D).all(|k| x[k] >= lo[k] && x[k] <= hi[k]) {
+        (0, 0, None)
+    } else {
+        (0, 1, Some(*x))
+    }
+}
+
+/// Adds two particle statuses (rayon reduction).
+pub(crate) fn merge_status<const D: usize>(
+    a: ParticleStatus<D>,
+    b: ParticleStatus<D>,
+) -> ParticleStatus<D> {
+    (a.0 + b.0, a.1 + b.1, a.2.or(b.2))
 }
 
 fn check_positive(name: &str, value: f64) -> Result<(), SimError> {
