@@ -48,6 +48,28 @@ impl SweepPlot {
     }
 }
 
+/// Axis label of a `sweep.csv` column: its name with the unit of the summary field or of the
+/// script parameter it holds (force units say both: N/m for 2D tanks, N for 3D).
+pub fn axis_label(column: &str) -> String {
+    let unit = match column {
+        c if c.starts_with("t_") || c.ends_with("_s") || c == "sim_time" || c == "settle" => "s",
+        "max_roof_p" | "kurihara_at_max" | "malhotra_at_max" => "Pa",
+        c if c.ends_with("_p") || c.contains("pressure") => "Pa",
+        c if c.contains("force") || c.contains("shear") => "N/m in 2D, N in 3D",
+        c if c.contains("eta") || c.ends_with("height") || c.contains("width") => "m",
+        "depth" | "dx" | "radius" | "amplitude" | "still_level" | "smoothing_length" => "m",
+        c if c.contains("ratio") => "–",
+        "smoothing_steps" => "steps",
+        c if c.contains("omega") => "rad/s",
+        _ => "",
+    };
+    if unit.is_empty() {
+        column.to_string()
+    } else {
+        format!("{column} [{unit}]")
+    }
+}
+
 /// Draws `plot` from `sweep_csv` into `<dir>/<stem>.png/.svg` and returns the path stem.
 /// Rows whose x or y is not a number (failed cases) are left out.
 pub fn draw(sweep_csv: &Path, plot: &SweepPlot, title: &str) -> Result<PathBuf> {
@@ -117,7 +139,15 @@ pub fn draw(sweep_csv: &Path, plot: &SweepPlot, title: &str) -> Result<PathBuf> 
         .join(plot.file_stem());
     slosh_io::line_plot(
         &stem,
-        &PlotSpec::new(title, &plot.x, plot.ys.join(", ")),
+        &PlotSpec::new(
+            title,
+            axis_label(&plot.x),
+            plot.ys
+                .iter()
+                .map(|y| axis_label(y))
+                .collect::<Vec<_>>()
+                .join(", "),
+        ),
         &series,
     )?;
     Ok(stem)
@@ -135,6 +165,15 @@ mod tests {
         assert_eq!(p.groups, vec!["smoothing_steps"]);
         assert!(SweepPlot::parse("tank_height").is_err());
         assert_eq!(SweepPlot::parse("a:b:c+d").unwrap().groups, vec!["c", "d"]);
+    }
+
+    #[test]
+    fn axis_labels_carry_units() {
+        assert_eq!(axis_label("tank_height"), "tank_height [m]");
+        assert_eq!(axis_label("max_roof_p"), "max_roof_p [Pa]");
+        assert_eq!(axis_label("t_max_roof_p"), "t_max_roof_p [s]");
+        assert_eq!(axis_label("clearance_ratio"), "clearance_ratio [–]");
+        assert_eq!(axis_label("status"), "status");
     }
 
     #[test]
