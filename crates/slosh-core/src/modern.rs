@@ -497,7 +497,6 @@ fn wall_pass<const D: usize, S: NeighbourSearch<D>>(
     body_force: Vector<D>,
 ) {
     let kernel = c.kernel;
-    let m = c.mass;
     let pos = &fluid.position;
     let vel = &fluid.velocity;
     let rho = &fluid.density;
@@ -561,27 +560,9 @@ fn wall_pass<const D: usize, S: NeighbourSearch<D>>(
             }
         } else {
             // Dynamic walls: Eq. 19 with the Eq. 20 reset, then Eq. 18.
-            let mut rho_sum = 0.0;
-            let mut kernel_sum = 0.0;
-            search.for_each_fluid_candidate(&xw, |j| {
-                let r2 = (xw - pos[j]).norm_squared();
-                if r2 < c.support_sq {
-                    let w = kernel.value(r2.sqrt());
-                    rho_sum += m * w;
-                    kernel_sum += m * inv_rho[j] * w;
-                    if r2 < nearest.0 {
-                        nearest = (r2, j as u32);
-                    }
-                }
-            });
-            search.for_each_wall_candidate(&xw, |kk| {
-                let r2 = (xw - wall_pos[kk]).norm_squared();
-                if r2 < c.support_sq {
-                    let w = kernel.value(r2.sqrt());
-                    rho_sum += m * w;
-                    kernel_sum += m * wall_inv_rho[kk] * w;
-                }
-            });
+            let (rho_sum, kernel_sum, near) =
+                wall_summation(search, c, &xw, pos, inv_rho, wall_pos, wall_inv_rho);
+            nearest = near;
             let r = if kernel_sum < c.free_surface_threshold {
                 c.rest_density
             } else {

@@ -523,34 +523,7 @@ impl<const D: usize> Simulation<D> {
 
     /// Wall pressures for loads (§2.6) of the state the forces were computed on.
     fn record_loads(&mut self, body_force: Vector<D>) {
-        let (kernel, mass, dx) = (self.constants.kernel, self.constants.mass, self.spacing);
-        let (step, time) = (self.step, self.time);
-        match &self.search {
-            Search::Grid(s) => self.loads.record_step(
-                s,
-                &self.fluid,
-                &self.walls,
-                &kernel,
-                mass,
-                &self.params,
-                body_force,
-                step,
-                time,
-                dx,
-            ),
-            Search::KdTree(s) => self.loads.record_step(
-                s,
-                &self.fluid,
-                &self.walls,
-                &kernel,
-                mass,
-                &self.params,
-                body_force,
-                step,
-                time,
-                dx,
-            ),
-        }
+        self.record_loads_at(body_force, self.time);
     }
 
     /// Wall pressures for loads of the state the forces were computed on, labelled `time`.
@@ -918,6 +891,45 @@ fn permute<T: Copy + Send + Sync>(values: &mut Vec<T>, order: &[u32], scratch: &
     std::mem::swap(values, scratch);
 }
 
+/// Eq. 19 at a wall particle at `xw`: the density sum Σ m W and the kernel sum Σ (m/ρ) W
+/// over fluid and wall neighbours, and the nearest fluid particle within the support
+/// (squared distance, index; u32::MAX when none).
+#[inline(always)]
+fn wall_summation<const D: usize, S: NeighbourSearch<D>>(
+    search: &S,
+    c: &PassConstants,
+    xw: &Vector<D>,
+    fluid_pos: &[Vector<D>],
+    fluid_inv_rho: &[f64],
+    wall_pos: &[Vector<D>],
+    wall_inv_rho: &[f64],
+) -> (f64, f64, (f64, u32)) {
+    let (kernel, m) = (c.kernel, c.mass);
+    let mut rho_sum = 0.0;
+    let mut kernel_sum = 0.0;
+    let mut nearest = (f64::INFINITY, u32::MAX);
+    search.for_each_fluid_candidate(xw, |j| {
+        let r2 = (xw - fluid_pos[j]).norm_squared();
+        if r2 < c.support_sq {
+            let w = kernel.value(r2.sqrt());
+            rho_sum += m * w;
+            kernel_sum += m * fluid_inv_rho[j] * w;
+            if r2 < nearest.0 {
+                nearest = (r2, j as u32);
+            }
+        }
+    });
+    search.for_each_wall_candidate(xw, |k| {
+        let r2 = (xw - wall_pos[k]).norm_squared();
+        if r2 < c.support_sq {
+            let w = kernel.value(r2.sqrt());
+            rho_sum += m * w;
+            kernel_sum += m * wall_inv_rho[k] * w;
+        }
+    });
+    (rho_sum, kernel_sum, nearest)
+}
+
 /// Density pass (Eq. 19, 20, 18, 5) over fluid and wall particles.
 fn density_pass<const D: usize, S: NeighbourSearch<D>>(
     search: &S,
@@ -1016,29 +1028,15 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
             .enumerate()
             .with_min_len(PAR_CHUNK)
             .for_each(|(w_i, (rho_out, nearest_out))| {
-                let xw = wall_pos[w_i];
-                let mut rho_sum = 0.0;
-                let mut kernel_sum = 0.0;
-                let mut nearest = (f64::INFINITY, u32::MAX);
-                search.for_each_fluid_candidate(&xw, |j| {
-                    let r2 = (xw - pos[j]).norm_squared();
-                    if r2 < c.support_sq {
-                        let w = kernel.value(r2.sqrt());
-                        rho_sum += m * w;
-                        kernel_sum += m * inv_rho[j] * w;
-                        if r2 < nearest.0 {
-                            nearest = (r2, j as u32);
-                        }
-                    }
-                });
-                search.for_each_wall_candidate(&xw, |k| {
-                    let r2 = (xw - wall_pos[k]).norm_squared();
-                    if r2 < c.support_sq {
-                        let w = kernel.value(r2.sqrt());
-                        rho_sum += m * w;
-                        kernel_sum += m * wall_inv_rho[k] * w;
-                    }
-                });
+                let (rho_sum, kernel_sum, nearest) = wall_summation(
+                    search,
+                    c,
+                    &wall_pos[w_i],
+                    pos,
+                    inv_rho,
+                    wall_pos,
+                    wall_inv_rho,
+                );
                 // Eq. 20 applies to wall particles too: a wall particle with too few
                 // neighbours (outer layers, above the liquid) keeps ρ0.
                 *rho_out = if kernel_sum < c.free_surface_threshold {
