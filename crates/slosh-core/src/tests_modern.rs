@@ -121,23 +121,9 @@ fn print_paper_fingerprints() {
 use crate::WallPressureMethod;
 use crate::{BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, KernelKind};
 
-/// The modern preset as `slosh-script` builds it (`modern_preset()` there; repeated here
-/// because slosh-core cannot depend on the script crate — keep the two in step).
+/// The modern preset.
 pub(crate) fn modern_params() -> SphParams {
-    let base = SphParams::default();
-    SphParams {
-        kernel: KernelKind::WendlandC2,
-        smoothing_ratio: 1.5,
-        density: DensityMethod::Continuity,
-        density_diffusion: DensityDiffusion::Fourtakas { delta: 0.1 },
-        boundary: BoundaryMethod::Adami,
-        integrator: Integrator::Symplectic,
-        av_alpha: 0.02,
-        av_sound_speed: Some(base.eos_sound_speed()),
-        clamp_negative_pressure: false,
-        wall_pressure: WallPressureMethod::WallParticle,
-        ..base
-    }
+    SphParams::modern()
 }
 
 /// First-mode circular frequency of a rectangular tank of width L, depth H (SPEC §5).

@@ -278,7 +278,7 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, f64), S
     let scheme = r.str_or("scheme", "paper")?;
     let mut p = match scheme.as_str() {
         "paper" => SphParams::default(),
-        "modern" => modern_preset(),
+        "modern" => SphParams::modern(),
         other => {
             return Err(format!(
                 "numerics: unknown scheme \"{other}\" (use \"paper\" or \"modern\")"
@@ -406,32 +406,6 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, f64), S
     p.smoothing_steps = r.usize_or("smoothing_steps", p.smoothing_steps)?;
     r.finish()?;
     Ok((p, scheme, dx))
-}
-
-/// The "modern" preset (issue 7), built from the practice of today's engineering SPH codes:
-/// continuity density with Fourtakas et al. (2019) δ-SPH diffusion (δ = 0.1), Adami, Hu &
-/// Adams (2012) generalised walls (free slip), Wendland C2 kernel with h = 1.5 dx (support
-/// 3 dx, the thickness of the three wall layers; at h = 1.3 dx Wendland C2 has too few
-/// neighbours and the measured sloshing period came out 4–6 % short), symplectic
-/// position-Verlet integration with the CFL- and force-limited variable dt, artificial
-/// viscosity α = 0.02 at the EOS sound speed c0, no clamp of negative pressure, and wall
-/// loads from the extrapolated wall pressures (moved to the wall face). Every part can be
-/// switched back one by one with the numerics keys.
-pub fn modern_preset() -> SphParams {
-    let base = SphParams::default();
-    SphParams {
-        kernel: KernelKind::WendlandC2,
-        smoothing_ratio: 1.5,
-        density: DensityMethod::Continuity,
-        density_diffusion: DensityDiffusion::Fourtakas { delta: 0.1 },
-        boundary: BoundaryMethod::Adami,
-        integrator: Integrator::Symplectic,
-        av_alpha: 0.02,
-        av_sound_speed: Some(base.eos_sound_speed()),
-        clamp_negative_pressure: false,
-        wall_pressure: WallPressureMethod::WallParticle,
-        ..base
-    }
 }
 
 fn density_name(d: DensityMethod) -> &'static str {
