@@ -1,6 +1,8 @@
 //! The quick validation subset (`slosh validate --quick`) must pass: every check of the suite
 //! (hydrostatics, free and forced sloshing against potential theory, Housner, dam break against
-//! experiments, resolution) within its stated tolerance. About two minutes on two cores.
+//! experiments, resolution; the modern scheme beside the paper's) within its stated tolerance
+//! (rows marked OPEN are targets of still-open issues and do not fail). A few minutes on two
+//! cores.
 
 use slosh_cli::validate::{run_validation, ValidateOptions, Verdict};
 
@@ -11,6 +13,7 @@ fn quick_validation_suite_passes() {
         quick: true,
         out: out.clone(),
         verbose: true,
+        only: None,
     })
     .expect("the validation suite runs");
 
@@ -37,6 +40,11 @@ fn quick_validation_suite_passes() {
         "Dam break: surge front",
         "Dam break: wall pressure",
         "Resolution study",
+        "Modern scheme: free-sloshing period",
+        "Modern scheme: hydrostatics and resonant growth",
+        "Modern scheme: roof impact",
+        "Modern scheme: dam-break front",
+        "Modern scheme: dam-break pressure",
     ] {
         assert!(
             report

@@ -2,10 +2,19 @@
 
 use anyhow::{bail, Context, Result};
 use slosh_core::ParticleSetup;
-use slosh_geometry::{BoxTank, CylinderTank, Layout, RectTank2, Roof};
+use slosh_geometry::{BoxTank, CylinderTank, InitialSurface, Layout, RectTank2, Roof};
 use slosh_script::resolve_script_path;
 use slosh_script::TankSpec;
 use std::path::Path;
+
+/// The geometry's initial-surface shape from its script name ("plane" or "mode1").
+fn initial_surface(name: &str) -> InitialSurface {
+    if name == "mode1" {
+        InitialSurface::FirstMode
+    } else {
+        InitialSurface::Plane
+    }
+}
 
 /// Builds the 2D particles of a 2D tank.
 pub fn build_2d(tank: &TankSpec, dx: f64) -> Result<ParticleSetup<2>> {
@@ -17,6 +26,7 @@ pub fn build_2d(tank: &TankSpec, dx: f64) -> Result<ParticleSetup<2>> {
             roof,
             layout,
             tilt,
+            tilt_shape,
         } => {
             let layout = Layout::from_name(layout).with_context(|| {
                 format!("unknown layout \"{layout}\" (use \"offset\" or \"paper\")")
@@ -25,6 +35,7 @@ pub fn build_2d(tank: &TankSpec, dx: f64) -> Result<ParticleSetup<2>> {
                 .with_roof(*roof)
                 .with_layout(layout)
                 .with_initial_tilt(*tilt)
+                .with_initial_shape(initial_surface(tilt_shape))
                 .build(dx)?)
         }
         _ => bail!("internal: a 3D tank was handed to the 2D builder"),
@@ -42,6 +53,7 @@ pub fn build_3d(tank: &TankSpec, dx: f64, script_dir: &Path) -> Result<ParticleS
             roof,
             roof_rise,
             tilt,
+            tilt_shape,
         } => {
             let mut roof = Roof::from_name(roof, *roof_rise).with_context(|| {
                 format!(
@@ -56,6 +68,7 @@ pub fn build_3d(tank: &TankSpec, dx: f64, script_dir: &Path) -> Result<ParticleS
             }
             Ok(CylinderTank::new(*radius, *height, *depth, roof)
                 .with_initial_tilt(*tilt)
+                .with_initial_shape(initial_surface(tilt_shape))
                 .build(dx)?)
         }
         TankSpec::Box {
@@ -65,9 +78,11 @@ pub fn build_3d(tank: &TankSpec, dx: f64, script_dir: &Path) -> Result<ParticleS
             depth,
             roof,
             tilt,
+            tilt_shape,
         } => Ok(BoxTank::new(*length, *breadth, *height, *depth)
             .with_roof(*roof)
             .with_initial_tilt(*tilt)
+            .with_initial_shape(initial_surface(tilt_shape))
             .build(dx)?),
         TankSpec::Rect { .. } => bail!("internal: a 2D tank was handed to the 3D builder"),
     }

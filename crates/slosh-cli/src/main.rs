@@ -54,6 +54,10 @@ struct ValidateArgs {
     /// Output folder.
     #[arg(long, default_value = "out/validate")]
     out: PathBuf,
+    /// Run only the stages whose name contains this text, e.g. `--only modern`, `--only 3d`,
+    /// `--only "dam break"` (case-insensitive).
+    #[arg(long)]
+    only: Option<String>,
 }
 
 #[derive(Args)]
@@ -144,14 +148,16 @@ fn main() -> ExitCode {
         Command::Sweep(args) => cmd_sweep(args),
         Command::Theory(args) => cmd_theory(args),
         Command::Bench(args) => slosh_cli::bench::cli_bench(args.quick, args.out, args.threads),
-        Command::Validate(args) => match slosh_cli::validate::cli_validate(args.quick, args.out) {
-            Ok(true) => Ok(()),
-            Ok(false) => {
-                eprintln!("validation: at least one check FAILED (see the report)");
-                return ExitCode::FAILURE;
+        Command::Validate(args) => {
+            match slosh_cli::validate::cli_validate(args.quick, args.out, args.only) {
+                Ok(true) => Ok(()),
+                Ok(false) => {
+                    eprintln!("validation: at least one check FAILED (see the report)");
+                    return ExitCode::FAILURE;
+                }
+                Err(e) => Err(e),
             }
-            Err(e) => Err(e),
-        },
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -542,7 +542,7 @@ fn wall_pass<const D: usize, S: NeighbourSearch<D>>(
             });
             if sum_w > 1e-12 {
                 let mut pw = (sum_pw + body_force.dot(&sum_rx)) / sum_w;
-                if c.clamp_negative {
+                if c.clamp_negative || c.wall_separation {
                     pw = pw.max(0.0);
                 }
                 *p_out = pw;

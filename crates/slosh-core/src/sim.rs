@@ -135,6 +135,8 @@ struct PassConstants {
     eos_gamma: f64,
     eos_gamma_int: Option<i32>,
     clamp_negative: bool,
+    /// Floor the Adami wall pressure at zero (`SphParams::wall_separation`).
+    pub(crate) wall_separation: bool,
     free_surface_threshold: f64,
     viscosity: f64,
     av_alpha: f64,
@@ -326,6 +328,7 @@ impl<const D: usize> Simulation<D> {
             eos_gamma: params.eos_gamma,
             eos_gamma_int: gamma_int,
             clamp_negative: params.clamp_negative_pressure,
+            wall_separation: params.wall_separation,
             free_surface_threshold: params.free_surface_threshold,
             viscosity: params.dynamic_viscosity,
             av_alpha: params.av_alpha,

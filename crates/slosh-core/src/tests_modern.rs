@@ -118,7 +118,6 @@ fn print_paper_fingerprints() {
 
 // ----- measurements: paper vs modern -----
 
-use crate::WallPressureMethod;
 use crate::{BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, KernelKind};
 
 /// The modern preset.
@@ -208,7 +207,9 @@ fn resonant_crests(params: SphParams, settle: f64, marks: &[f64]) -> Vec<f64> {
         let ag = if t < 0.0 {
             0.0
         } else {
-            -a * w * w * (w * t).sin()
+            // the paper's convention (as `slosh validate`): ground acceleration +Aω² sin ωt,
+            // the liquid feels −Aω² sin ωt
+            a * w * w * (w * t).sin()
         };
         sim.step(Vector::<2>::new(ag, 0.0)).unwrap();
         if sim.time() > settle {
@@ -258,9 +259,10 @@ fn modern_hydrostatics() {
 }
 
 /// Modern preset: the resonant paper case's crest at the left wall (gauge at x = 0.02 m)
-/// during the first 2 s of excitation against linear theory (0.052 m). Measured 0.036 m
-/// (−31 %; the paper scheme gives 0.029 m, −45 %, in the same harness), so the issue's 25 %
-/// target is NOT met; asserted here within 40 % to guard against regressions.
+/// during the first 2 s of excitation against linear theory (0.052 m, the crest at 1.77 s),
+/// within 25 % (issue 7). (An earlier version of this harness applied the excitation with the
+/// opposite sign, so its first large left-wall crest came half a period earlier, at ≈ 1.2 s,
+/// and read 0.036 m against a theory value of the other sign's timing.)
 #[test]
 fn modern_resonant_crest() {
     let crests = resonant_crests(modern_params(), 0.5, &[2.0]);
@@ -269,7 +271,7 @@ fn modern_resonant_crest() {
         crests[0]
     );
     assert!(
-        (crests[0] / 0.052 - 1.0).abs() < 0.40,
+        (crests[0] / 0.052 - 1.0).abs() < 0.25,
         "crest {}",
         crests[0]
     );

@@ -21,7 +21,8 @@
 //! ((i+½)dx, (j+½)dx, (k+½)dx).
 //! * fluid: lattice points inside the tank and outside every internal solid, below the
 //!   (tilted) fill surface z < fill_level + tilt·(1 − 2ξ), ξ the fractional x position across
-//!   the tank; `fill_level` is the top of the lattice rows below the fill depth (rows·dx);
+//!   the tank (or the first-mode surface, [`InitialSurface`]), each lattice column holding a
+//!   whole number of rows chosen by error diffusion along x; `fill_level` is the top of the lattice rows below the fill depth (rows·dx);
 //! * walls: lattice points outside the tank, or inside an internal solid, within
 //!   `layers`·dx (+1e-6 dx) Euclidean distance of that surface; open tanks only below the shell
 //!   top; a point that qualifies for several surfaces takes the nearest;
@@ -42,6 +43,22 @@ mod error;
 mod mesh;
 mod rect2;
 mod tank3;
+
+/// Shape of the initial free surface of a free-decay test (`initial_tilt` ≠ 0). Both keep the
+/// liquid volume of the flat surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum InitialSurface {
+    /// A plane through the still level, `initial_tilt` above it at one wall and below it at
+    /// the opposite wall. It excites the higher modes too: in a cylinder a plane is 84 % first
+    /// mode at the wall (2/(ξ₁² − 1)), 7 % second, 3 % third; in a rectangle 81 % (8/π²).
+    #[default]
+    Plane,
+    /// The first sloshing mode alone, `initial_tilt` at the same wall point: in a cylinder
+    /// −(x/r)·J₁(ξ₁ r/R)/J₁(ξ₁), ξ₁ = 1.841184 (first zero of J₁′); in a rectangle or box
+    /// cos(π ξ), ξ the fractional x position across the tank. The clean start of a
+    /// free-sloshing period measurement.
+    FirstMode,
+}
 
 pub use error::{GeometryError, MAX_PARTICLES};
 pub use mesh::{box_mesh, circle_segments, revolve_profile, SurfaceMesh};

@@ -52,6 +52,8 @@ pub struct RectTank2 {
     /// Initial linear free-surface tilt: elevation of the surface above the still level at the
     /// left wall (m); −tilt at the right wall; 0 = flat (volume preserving).
     pub initial_tilt: f64,
+    /// Shape of the tilted surface (plane by default).
+    pub initial_shape: crate::InitialSurface,
 }
 
 /// The lattice numbers of a [`RectTank2`] at a given spacing (what `build` will produce).
@@ -86,6 +88,7 @@ impl RectTank2 {
             layout: Layout::Offset,
             layers: 3,
             initial_tilt: 0.0,
+            initial_shape: crate::InitialSurface::Plane,
         }
     }
 
@@ -110,6 +113,12 @@ impl RectTank2 {
     /// Sets the initial free-surface tilt (m, elevation at the left wall).
     pub fn with_initial_tilt(mut self, tilt: f64) -> Self {
         self.initial_tilt = tilt;
+        self
+    }
+
+    /// Sets the shape of the tilted initial surface.
+    pub fn with_initial_shape(mut self, shape: crate::InitialSurface) -> Self {
+        self.initial_shape = shape;
         self
     }
 
@@ -226,7 +235,7 @@ impl RectTank2 {
     /// Builds the initial particles for spacing `dx` (m).
     ///
     /// Fluid: lattice points of the interior with y < fill_level + tilt·(1 − 2ξ), ξ the
-    /// fractional distance from the left face. Walls: lattice points outside the interior
+    /// fractional distance from the left face (tilt·cos πξ for [`crate::InitialSurface::FirstMode`]). Walls: lattice points outside the interior
     /// within `layers` spacings in the max-norm (full corners); open tanks have no roof layer
     /// and side walls only up to the shell top. Each wall particle gets its part (corner
     /// points: the part of the nearest face line; ties go to the wall at the bottom corners
@@ -248,7 +257,11 @@ impl RectTank2 {
             for i in 0..nx {
                 let p = point(i, j);
                 let xi = (p.x - x0) / width_eff;
-                let surface = lat.fill_level + self.initial_tilt * (1.0 - 2.0 * xi);
+                let shape = match self.initial_shape {
+                    crate::InitialSurface::Plane => 1.0 - 2.0 * xi,
+                    crate::InitialSurface::FirstMode => (std::f64::consts::PI * xi).cos(),
+                };
+                let surface = lat.fill_level + self.initial_tilt * shape;
                 if p.y < surface {
                     fluid.push(p);
                 }

@@ -269,9 +269,11 @@ pub struct CylinderTank {
     pub roof: Roof,
     /// Number of wall particle layers (default 3).
     pub layers: u8,
-    /// Initial planar free-surface tilt along x: elevation above the still level at x = −R (m),
+    /// Initial free-surface tilt along x: elevation above the still level at x = −R (m),
     /// −tilt at x = +R; 0 = flat.
     pub initial_tilt: f64,
+    /// Shape of the tilted surface (plane by default).
+    pub initial_shape: crate::InitialSurface,
     /// Internal solids (columns, baffle rings).
     pub solids: Vec<InternalSolid>,
 }
@@ -287,6 +289,7 @@ impl CylinderTank {
             roof,
             layers: 3,
             initial_tilt: 0.0,
+            initial_shape: crate::InitialSurface::Plane,
             solids: Vec::new(),
         }
     }
@@ -294,6 +297,12 @@ impl CylinderTank {
     /// Sets the initial free-surface tilt (m, elevation at x = −R).
     pub fn with_initial_tilt(mut self, tilt: f64) -> Self {
         self.initial_tilt = tilt;
+        self
+    }
+
+    /// Sets the shape of the tilted initial surface.
+    pub fn with_initial_shape(mut self, shape: crate::InitialSurface) -> Self {
+        self.initial_shape = shape;
         self
     }
 
@@ -438,7 +447,10 @@ impl CylinderTank {
             open,
             fill_depth: self.fill_depth,
             initial_tilt: self.initial_tilt,
-            tilt_span: [-r, r],
+            tilt_shape: match self.initial_shape {
+                crate::InitialSurface::Plane => TiltShape::Plane { span: [-r, r] },
+                crate::InitialSurface::FirstMode => TiltShape::CylinderMode { radius: r },
+            },
             layers: self.layers,
             solids: self.solids.clone(),
             analytic_part_area: analytic,
@@ -466,8 +478,10 @@ pub struct BoxTank {
     pub roof: bool,
     /// Number of wall layers (default 3).
     pub layers: u8,
-    /// Initial planar tilt along x: elevation above the still level at x = 0 (m), −tilt at x = W.
+    /// Initial tilt along x: elevation above the still level at x = 0 (m), −tilt at x = W.
     pub initial_tilt: f64,
+    /// Shape of the tilted surface (plane by default).
+    pub initial_shape: crate::InitialSurface,
     /// Internal solids.
     pub solids: Vec<InternalSolid>,
 }
@@ -483,6 +497,7 @@ impl BoxTank {
             roof: true,
             layers: 3,
             initial_tilt: 0.0,
+            initial_shape: crate::InitialSurface::Plane,
             solids: Vec::new(),
         }
     }
@@ -496,6 +511,12 @@ impl BoxTank {
     /// Sets the initial tilt (m, elevation at x = 0).
     pub fn with_initial_tilt(mut self, tilt: f64) -> Self {
         self.initial_tilt = tilt;
+        self
+    }
+
+    /// Sets the shape of the tilted initial surface.
+    pub fn with_initial_shape(mut self, shape: crate::InitialSurface) -> Self {
+        self.initial_shape = shape;
         self
     }
 
@@ -561,7 +582,10 @@ impl BoxTank {
             open: !self.roof,
             fill_depth: self.fill_depth,
             initial_tilt: self.initial_tilt,
-            tilt_span: [0.0, w],
+            tilt_shape: match self.initial_shape {
+                crate::InitialSurface::Plane => TiltShape::Plane { span: [0.0, w] },
+                crate::InitialSurface::FirstMode => TiltShape::Cosine { span: [0.0, w] },
+            },
             layers: self.layers,
             solids: self.solids.clone(),
             analytic_part_area: [
@@ -591,6 +615,47 @@ enum RegionShape {
     Mesh,
 }
 
+/// The tilted initial surface: elevation above the fill level per unit tilt, as a function of
+/// the horizontal position.
+#[derive(Debug, Clone, Copy)]
+enum TiltShape {
+    /// Plane: +1 at x = span[0], −1 at x = span[1].
+    Plane { span: [f64; 2] },
+    /// First cylinder mode: −(x/r) J₁(ξ₁ r/R)/J₁(ξ₁) (+1 at x = −R).
+    CylinderMode { radius: f64 },
+    /// First rectangular mode: cos(π (x − span[0])/(span[1] − span[0])).
+    Cosine { span: [f64; 2] },
+}
+
+impl TiltShape {
+    /// Elevation per unit tilt at (x, y) (m/m).
+    fn at(&self, x: f64, y: f64) -> f64 {
+        match *self {
+            TiltShape::Plane { span } => 1.0 - 2.0 * (x - span[0]) / (span[1] - span[0]),
+            TiltShape::Cosine { span } => {
+                (std::f64::consts::PI * (x - span[0]) / (span[1] - span[0])).cos()
+            }
+            TiltShape::CylinderMode { radius } => {
+                let xi1 = slosh_theory::bessel::bessel_j_derivative_zero(1, 1);
+                let r = (x * x + y * y).sqrt().min(radius);
+                if r == 0.0 {
+                    return 0.0;
+                }
+                -(x / r) * slosh_theory::bessel::bessel_j(1, xi1 * r / radius)
+                    / slosh_theory::bessel::bessel_j(1, xi1)
+            }
+        }
+    }
+
+    /// Range of x the shape is defined over (m).
+    fn span(&self) -> [f64; 2] {
+        match *self {
+            TiltShape::Plane { span } | TiltShape::Cosine { span } => span,
+            TiltShape::CylinderMode { radius } => [-radius, radius],
+        }
+    }
+}
+
 /// A tank given by its closed interior surface; the common input of [`build_mesh_tank`].
 #[derive(Debug, Clone)]
 struct MeshTankSpec {
@@ -603,8 +668,8 @@ struct MeshTankSpec {
     open: bool,
     fill_depth: f64,
     initial_tilt: f64,
-    /// x of the points where the tilted surface is +tilt and −tilt (m).
-    tilt_span: [f64; 2],
+    /// Shape of the tilted surface.
+    tilt_shape: TiltShape,
     layers: u8,
     solids: Vec<InternalSolid>,
     /// Exact areas of bottom, wall, roof (m²) when known; the mesh areas are rescaled to them.
@@ -1033,27 +1098,51 @@ fn build_mesh_tank(spec: &MeshTankSpec, dx: f64) -> Result<ParticleSetup<3>, Geo
             (k as f64 + 0.5) * dx,
         )
     };
-    let span = spec.tilt_span;
-    let surface_z = |x: f64| fill_level + tilt * (1.0 - 2.0 * (x - span[0]) / (span[1] - span[0]));
+    let span = spec.tilt_shape.span();
+    let surface_z = |x: f64, y: f64| fill_level + tilt * spec.tilt_shape.at(x, y);
     // The tilted surface on the lattice: each column (i, j) holds a whole number of rows,
-    // chosen by error diffusion along x so that the staircase follows the tilted plane on
-    // average — a tilt smaller than dx then still gives the right first-mode content, where
-    // cutting the lattice at the plane would leave the surface flat.
+    // chosen by two-dimensional error diffusion (Floyd & Steinberg 1976, serpentine scan) so
+    // that the staircase follows the tilted surface on average over a few columns — the kernel
+    // sees the intended surface even when the tilt is smaller than dx, where cutting the
+    // lattice at the surface would leave it flat, and the extra rows are spread over the
+    // area instead of lining up in one ridge.
     let i_lo = (span[0] / dx).floor() as i64 - 1;
     let i_hi = (span[1] / dx).ceil() as i64 + 1;
     let j_lo = (spec.interior_min[1] / dx).floor() as i64 - 1;
     let j_hi = (spec.interior_max[1] / dx).ceil() as i64 + 1;
     let row_len = (i_hi - i_lo + 1) as usize;
-    let mut column_tops = vec![fill_level; row_len * (j_hi - j_lo + 1) as usize];
+    let n_rows = (j_hi - j_lo + 1) as usize;
+    let mut column_tops = vec![fill_level; row_len * n_rows];
     if tilt != 0.0 {
-        for row in column_tops.chunks_mut(row_len) {
-            let mut carried = 0.0;
-            for (ii, top) in row.iter_mut().enumerate() {
+        // residual[k]: rows still owed to column k by its already-rounded neighbours
+        let mut residual = vec![0.0; row_len * n_rows];
+        for jj in 0..n_rows {
+            let y = ((j_lo + jj as i64) as f64 + 0.5) * dx;
+            let forward = jj % 2 == 0;
+            for step in 0..row_len {
+                let ii = if forward { step } else { row_len - 1 - step };
+                let k = jj * row_len + ii;
                 let x = ((i_lo + ii as i64) as f64 + 0.5) * dx;
-                let target_rows = surface_z(x) / dx;
-                let rows = (target_rows + carried).round();
-                carried += target_rows - rows;
-                *top = rows * dx;
+                let wanted = surface_z(x, y) / dx + residual[k];
+                let rows = wanted.round();
+                column_tops[k] = rows * dx;
+                let error = wanted - rows;
+                // 7/16 ahead in the row, 3/16, 5/16, 1/16 to the next row (behind, below, ahead)
+                let ahead = |d: i64| -> Option<usize> {
+                    let i = ii as i64 + if forward { d } else { -d };
+                    (0..row_len as i64).contains(&i).then_some(i as usize)
+                };
+                if let Some(i) = ahead(1) {
+                    residual[k - ii + i] += error * 7.0 / 16.0;
+                }
+                if jj + 1 < n_rows {
+                    let below = (jj + 1) * row_len;
+                    for (d, w) in [(-1, 3.0), (0, 5.0), (1, 1.0)] {
+                        if let Some(i) = ahead(d) {
+                            residual[below + i] += error * w / 16.0;
+                        }
+                    }
+                }
             }
         }
     }
@@ -1063,7 +1152,7 @@ fn build_mesh_tank(spec: &MeshTankSpec, dx: f64) -> Result<ParticleSetup<3>, Geo
         if (i_lo..=i_hi).contains(&i) && (j_lo..=j_hi).contains(&j) {
             column_tops[(j - j_lo) as usize * row_len + (i - i_lo) as usize]
         } else {
-            surface_z(x)
+            surface_z(x, y)
         }
     };
 

@@ -122,6 +122,8 @@ pub enum TankSpec {
         layout: String,
         /// Initial free-surface elevation at the left wall (m).
         tilt: f64,
+        /// Shape of the tilted surface: `"plane"` or `"mode1"` (first sloshing mode).
+        tilt_shape: String,
     },
     /// 3D upright cylinder, axis vertical through x = y = 0.
     Cylinder {
@@ -137,6 +139,8 @@ pub enum TankSpec {
         roof_rise: f64,
         /// Initial free-surface elevation at x = −R (m).
         tilt: f64,
+        /// Shape of the tilted surface: `"plane"` or `"mode1"` (first sloshing mode).
+        tilt_shape: String,
     },
     /// 3D rectangular box tank.
     Box {
@@ -152,7 +156,20 @@ pub enum TankSpec {
         roof: bool,
         /// Initial free-surface elevation at x = 0 (m).
         tilt: f64,
+        /// Shape of the tilted surface: `"plane"` or `"mode1"` (first sloshing mode).
+        tilt_shape: String,
     },
+}
+
+/// Reads `tilt_shape` ("plane" by default, or "mode1").
+fn tilt_shape(r: &mut MapReader) -> Result<String, String> {
+    let shape = r.str_or("tilt_shape", "plane")?;
+    match shape.as_str() {
+        "plane" | "mode1" => Ok(shape),
+        other => Err(format!(
+            "tank: unknown tilt_shape \"{other}\" (use \"plane\" or \"mode1\")"
+        )),
+    }
 }
 
 impl TankSpec {
@@ -175,6 +192,7 @@ impl TankSpec {
                 roof: r.bool_or("roof", true)?,
                 layout: r.str_or("layout", "offset")?,
                 tilt: r.f64_or("tilt", 0.0)?,
+                tilt_shape: tilt_shape(&mut r)?,
             },
             "cylinder" => TankSpec::Cylinder {
                 radius: r.f64_or("radius", 0.5)?,
@@ -183,6 +201,7 @@ impl TankSpec {
                 roof: r.str_or("roof", "flat")?,
                 roof_rise: r.f64_or("roof_rise", 0.1)?,
                 tilt: r.f64_or("tilt", 0.0)?,
+                tilt_shape: tilt_shape(&mut r)?,
             },
             "box" => TankSpec::Box {
                 length: r.f64_or("length", 1.0)?,
@@ -191,6 +210,7 @@ impl TankSpec {
                 depth: r.f64_or("depth", 0.5)?,
                 roof: r.bool_or("roof", true)?,
                 tilt: r.f64_or("tilt", 0.0)?,
+                tilt_shape: tilt_shape(&mut r)?,
             },
             other => {
                 return Err(format!(
@@ -308,6 +328,7 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, f64), S
     }
     p.free_surface_threshold = r.f64_or("free_surface_threshold", p.free_surface_threshold)?;
     p.clamp_negative_pressure = r.bool_or("clamp_negative_pressure", p.clamp_negative_pressure)?;
+    p.wall_separation = r.bool_or("wall_separation", p.wall_separation)?;
     p.gravity = r.f64_or("gravity", p.gravity)?;
     p.cfl_number = r.f64_or("cfl_number", p.cfl_number)?;
     let dt = r.f64_or("dt", p.fixed_dt.unwrap_or(0.0))?;

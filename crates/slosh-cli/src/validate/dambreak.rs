@@ -6,13 +6,14 @@
 //! starts at ρ0, p = 0) and no gate: both make the surge start slightly differently from the
 //! experiments; the tolerances below say so.
 
-use super::run::{interpolate, paper_params, Context, GRAVITY, RHO};
+use super::run::{interpolate, Context, Scheme, GRAVITY, RHO};
 use super::{
-    failed_run, fmt_num, info_row, plot_path, relative_check, Check, GroupResult, PlotRef, Verdict,
+    failed_run, fmt_num, info_row, open_if_failed, plot_path, relative_check, stayed_inside, Check,
+    GroupResult, PlotRef, Verdict,
 };
 use anyhow::{anyhow, Result};
 use nalgebra::Vector2;
-use slosh_core::{Simulation, PART_WALL};
+use slosh_core::{Simulation, SphParams, PART_WALL};
 use slosh_geometry::RectTank2;
 use slosh_io::{line_plot, PlotSpec, Series};
 
@@ -32,6 +33,13 @@ const FRONT_Z_MAX: f64 = 4.0;
 /// differ among themselves by up to ≈ 10 % at the same T (e.g. T = 3: Z/a = 3.73, 3.57, 3.38),
 /// and the gate removal they all had is not modelled (≈ 5 %): 15 %.
 const FRONT_TOL: f64 = 0.15;
+const FRONT_WHY: &str = "experiments differ among themselves by up to 10 % at equal T; no gate \
+                         in the SPH (≈ 5 %)";
+/// The modern scheme's front tolerance: 5 % (issue 7) — its liquid starts hydrostatic and
+/// reaches the wall, so the 5 % of the missing gate is the whole allowance.
+const FRONT_TOL_MODERN: f64 = 0.05;
+const FRONT_WHY_MODERN: &str = "5 % (issue 7): the modern scheme starts hydrostatic and its \
+                                walls hold the liquid at dx/2, so only the gate (≈ 5 %) remains";
 
 /// Pressure case (Lobovsky 2014, Buchner 2002 share it): column H = 0.3 m high, 2H wide,
 /// tank 5.366 H = 1.61 m.
@@ -46,6 +54,13 @@ const P_DX: f64 = 0.01;
 const IMPACT_TOL: f64 = 0.10;
 /// Pressure level (p/ρgH) that marks the impact: above the ±0.16 pre-impact scatter of the
 /// digitised Buchner data, below every post-impact value of both experiments.
+/// What is known of the modern scheme's dam-break gaps (issue 7 stays open on them).
+const MODERN_DAMBREAK_GAP: &str = "issue 7: the modern front runs ≈ 10 % ahead of all three \
+    experiments (as the paper scheme's; no gate is modelled), and the Adami pressure at the \
+    floor–wall corner (P1, 3 mm) reads the plateau ≈ 50 % and the first peak ≈ 2× high while \
+    0.2 H agrees within 8 %";
+/// The modern scheme's first-peak tolerance against Lobovsky P1 (issue 7).
+const PEAK_TOL_MODERN: f64 = 0.20;
 const IMPACT_LEVEL: f64 = 0.25;
 /// Post-impact mean-pressure tolerance: Lobovsky et al. report the post-impact pressure
 /// repeatable to ≈ ±10 %; the paper scheme's wall pressure (nearest fluid particle, ±20-step
@@ -68,6 +83,7 @@ fn read_pairs(text: &str) -> Vec<(f64, f64)> {
 
 /// A dam-break simulation: open tank, fluid only where x < `column`.
 fn dam_break_sim(
+    params: SphParams,
     tank_width: f64,
     tank_height: f64,
     column: f64,
@@ -78,7 +94,7 @@ fn dam_break_sim(
         .with_roof(false)
         .build(dx)?;
     setup.fluid_positions.retain(|p| p.x < column);
-    Ok(Simulation::new(setup, paper_params())?)
+    Ok(Simulation::new(setup, params)?)
 }
 
 /// Leading edge of the surge (m) on the line y = `y_line` just above the floor: the largest x
@@ -121,22 +137,55 @@ fn front_position(sim: &Simulation<2>, y_line: f64, x_ref: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
-/// Surge front against Martin & Moyce and Koshizuka & Oka.
+/// Surge front against Martin & Moyce and Koshizuka & Oka, paper scheme.
 pub fn front(ctx: &Context) -> GroupResult {
-    match front_inner(ctx) {
+    front_for(
+        ctx,
+        &Scheme::paper(),
+        "Dam-break front",
+        FRONT_TOL,
+        FRONT_WHY,
+    )
+}
+
+/// The same with the modern scheme, held to 5 % (issue 7).
+pub fn front_modern(ctx: &Context) -> GroupResult {
+    front_for(
+        ctx,
+        &Scheme::modern(),
+        "Modern scheme: dam-break front",
+        FRONT_TOL_MODERN,
+        FRONT_WHY_MODERN,
+    )
+}
+
+fn front_for(ctx: &Context, scheme: &Scheme, group: &str, tol: f64, why: &str) -> GroupResult {
+    match front_inner(ctx, scheme, group, tol, why) {
         Ok(g) => g,
         Err(e) => {
             let mut g = GroupResult::default();
-            g.checks
-                .push(failed_run("Dam-break front", "run", &format!("{e:#}")));
+            g.checks.push(failed_run(group, "run", &format!("{e:#}")));
             g
         }
     }
 }
 
-fn front_inner(ctx: &Context) -> Result<GroupResult> {
+fn front_inner(
+    ctx: &Context,
+    scheme: &Scheme,
+    group: &str,
+    tol: f64,
+    why: &str,
+) -> Result<GroupResult> {
     let a = FRONT_COLUMN;
-    let mut sim = dam_break_sim(FRONT_TANK_WIDTH, 1.5 * 2.0 * a, a, 2.0 * a, FRONT_DX)?;
+    let mut sim = dam_break_sim(
+        scheme.params.clone(),
+        FRONT_TANK_WIDTH,
+        1.5 * 2.0 * a,
+        a,
+        2.0 * a,
+        FRONT_DX,
+    )?;
     let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
     let t_scale = (2.0 * GRAVITY / a).sqrt();
     let t_end = 3.6 / t_scale;
@@ -162,7 +211,7 @@ fn front_inner(ctx: &Context) -> Result<GroupResult> {
         particle_steps: steps,
         ..GroupResult::default()
     };
-    let group = "Dam-break front";
+    g.checks.push(stayed_inside(group, &sim));
     let mut plot_data: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
     for (label, text) in [
         ("Martin & Moyce 1952, a = 1.125 in", MM_SMALL),
@@ -179,8 +228,8 @@ fn front_inner(ctx: &Context) -> Result<GroupResult> {
             .collect();
         let mean_err = errors.iter().sum::<f64>() / errors.len().max(1) as f64;
         let mean_abs = errors.iter().map(|e| e.abs()).sum::<f64>() / errors.len().max(1) as f64;
-        let pass = mean_abs.is_finite() && mean_abs <= FRONT_TOL;
-        g.checks.push(Check {
+        let pass = mean_abs.is_finite() && mean_abs <= tol;
+        let check = Check {
             group: group.into(),
             name: format!(
                 "front Z/a against {label} ({} points, Z/a ≤ {FRONT_Z_MAX})",
@@ -193,11 +242,14 @@ fn front_inner(ctx: &Context) -> Result<GroupResult> {
             ),
             reference: "experiment".into(),
             error: format!("{:.1} %", 100.0 * mean_abs),
-            tolerance: format!("≤ {:.0} %", 100.0 * FRONT_TOL),
-            reason: "experiments differ among themselves by up to 10 % at equal T; no gate in \
-                     the SPH (≈ 5 %)"
-                .into(),
+            tolerance: format!("≤ {:.0} %", 100.0 * tol),
+            reason: why.into(),
             verdict: if pass { Verdict::Pass } else { Verdict::Fail },
+        };
+        g.checks.push(if scheme.label == "paper scheme" {
+            check
+        } else {
+            open_if_failed(check, MODERN_DAMBREAK_GAP)
         });
         plot_data.push((
             label.to_string(),
@@ -205,13 +257,21 @@ fn front_inner(ctx: &Context) -> Result<GroupResult> {
             data.iter().map(|p| p.1).collect(),
         ));
     }
-    let stem = "dambreak_front";
-    let mut series = vec![Series::line("SPH (paper scheme, a/dx = 20)", &ts, &zs)];
+    let stem = if scheme.label == "paper scheme" {
+        "dambreak_front".to_string()
+    } else {
+        "dambreak_front_modern".to_string()
+    };
+    let mut series = vec![Series::line(
+        format!("SPH ({}, a/dx = 20)", scheme.label),
+        &ts,
+        &zs,
+    )];
     for (label, xs, ys) in &plot_data {
         series.push(Series::points(label.clone(), xs, ys));
     }
     let _ = line_plot(
-        plot_path(&ctx.out, stem),
+        plot_path(&ctx.out, &stem),
         &PlotSpec::new(
             "Dam break: surge front (column a wide, 2a high)",
             "T = t √(2g/a) (-)",
@@ -230,22 +290,48 @@ fn front_inner(ctx: &Context) -> Result<GroupResult> {
     Ok(g)
 }
 
-/// Downstream-wall pressure against Lobovsky et al. (2014) P1 and Buchner (2002).
+/// Downstream-wall pressure against Lobovsky et al. (2014) P1 and Buchner (2002), paper
+/// scheme (impact peak reported only).
 pub fn wall_pressure(ctx: &Context) -> GroupResult {
-    match wall_pressure_inner(ctx) {
+    wall_pressure_for(ctx, &Scheme::paper(), "Dam-break pressure", false)
+}
+
+/// The same with the modern scheme; its first impact peak at P1 is held to 20 % (issue 7).
+pub fn wall_pressure_modern(ctx: &Context) -> GroupResult {
+    wall_pressure_for(
+        ctx,
+        &Scheme::modern(),
+        "Modern scheme: dam-break pressure",
+        true,
+    )
+}
+
+fn wall_pressure_for(ctx: &Context, scheme: &Scheme, group: &str, judge_peak: bool) -> GroupResult {
+    match wall_pressure_inner(ctx, scheme, group, judge_peak) {
         Ok(g) => g,
         Err(e) => {
             let mut g = GroupResult::default();
-            g.checks
-                .push(failed_run("Dam-break pressure", "run", &format!("{e:#}")));
+            g.checks.push(failed_run(group, "run", &format!("{e:#}")));
             g
         }
     }
 }
 
-fn wall_pressure_inner(ctx: &Context) -> Result<GroupResult> {
+fn wall_pressure_inner(
+    ctx: &Context,
+    scheme: &Scheme,
+    group: &str,
+    judge_peak: bool,
+) -> Result<GroupResult> {
     let h = P_DEPTH;
-    let mut sim = dam_break_sim(P_TANK_WIDTH, P_TANK_HEIGHT, P_COLUMN, h, P_DX)?;
+    let mut sim = dam_break_sim(
+        scheme.params.clone(),
+        P_TANK_WIDTH,
+        P_TANK_HEIGHT,
+        P_COLUMN,
+        h,
+        P_DX,
+    )?;
     let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
     let t_scale = (GRAVITY / h).sqrt();
     let t_final = if ctx.quick { 4.0 } else { 6.0 };
@@ -311,7 +397,7 @@ fn wall_pressure_inner(ctx: &Context) -> Result<GroupResult> {
         particle_steps: steps,
         ..GroupResult::default()
     };
-    let group = "Dam-break pressure";
+    g.checks.push(stayed_inside(group, &sim));
     let mut data_sets = Vec::new();
     for (k, (label, _, text)) in probes.iter().enumerate() {
         let data = read_pairs(text);
@@ -343,6 +429,13 @@ fn wall_pressure_inner(ctx: &Context) -> Result<GroupResult> {
             "{label}: mean p/(ρgH) over T = {:.0}–{:.0} (after impact)",
             plateau.0, plateau.1
         );
+        let judge = |c: Check| {
+            if judge_peak {
+                open_if_failed(c, MODERN_DAMBREAK_GAP)
+            } else {
+                c
+            }
+        };
         if k == 0 {
             g.checks.push(relative_check(
                 group,
@@ -354,7 +447,7 @@ fn wall_pressure_inner(ctx: &Context) -> Result<GroupResult> {
                 "10 %: gate opening in the experiments delays the surge by ≈ 0.1–0.2 in T; front \
                  agreement above is 15 % in position",
             ));
-            g.checks.push(relative_check(
+            g.checks.push(judge(relative_check(
                 group,
                 &plateau_name,
                 m_sph,
@@ -363,7 +456,7 @@ fn wall_pressure_inner(ctx: &Context) -> Result<GroupResult> {
                 PLATEAU_TOL,
                 "20 %: experimental repeatability ≈ ±10 % after impact; acoustic oscillation of \
                  the weakly compressible wall pressure ≈ 10 % of ρgH in the mean",
-            ));
+            )));
         } else {
             // Buchner's digitised series is reported beside Lobovsky's, not judged: its time
             // scale is ambiguous (the file says t√(2g/H), which puts its impact 0.3 s before
@@ -392,7 +485,19 @@ fn wall_pressure_inner(ctx: &Context) -> Result<GroupResult> {
         }
         let peak_sph = sph.iter().fold(f64::NEG_INFINITY, |m, &p| m.max(p));
         let peak_exp = dp.iter().fold(f64::NEG_INFINITY, |m, &p| m.max(p));
-        g.checks.push(info_row(
+        if judge_peak && k == 0 {
+            g.checks.push(judge(relative_check(
+                group,
+                &format!("{label}: first impact peak p/(ρgH)"),
+                peak_sph,
+                peak_exp,
+                "",
+                PEAK_TOL_MODERN,
+                "20 % (issue 7): the modern scheme's wall pressure is the Adami extrapolation \
+                 without clamp or surface reset; Lobovsky's series is the mean of 100 repeats",
+            )));
+        } else {
+            g.checks.push(info_row(
             group,
             &format!("{label}: impact peak p/(ρgH)"),
             fmt_num(peak_sph),
@@ -400,14 +505,19 @@ fn wall_pressure_inner(ctx: &Context) -> Result<GroupResult> {
             format!("ratio {:.2}", peak_sph / peak_exp),
             "reported, no tolerance: the impact peak is not repeatable in experiments (Lobovsky \
              et al. 2014: spread of ±50 % over 100 repeats) and depends on the ±20-step window",
-        ));
+            ));
+        }
         data_sets.push((label.to_string(), dt_, dp));
     }
-    let stem = "dambreak_wall_pressure";
+    let stem = if judge_peak {
+        "dambreak_wall_pressure_modern"
+    } else {
+        "dambreak_wall_pressure"
+    };
     let mut series: Vec<Series> = Vec::new();
     for (k, (label, _, _)) in probes.iter().enumerate() {
         series.push(Series::line(
-            format!("SPH at {label}"),
+            format!("SPH ({}) at {label}", scheme.label),
             &t_series,
             &p_series[k],
         ));

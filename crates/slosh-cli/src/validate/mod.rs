@@ -6,10 +6,12 @@
 //! informative (no tolerance) is reported as INFO and never fails the suite.
 
 mod dambreak;
+mod modern;
 mod report;
 mod resolution;
 mod run;
 mod sloshing;
+mod three_d;
 
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
@@ -26,6 +28,8 @@ pub struct ValidateOptions {
     pub out: PathBuf,
     /// Print one line per case to stderr.
     pub verbose: bool,
+    /// Run only the stages whose name contains this text (case-insensitive); `None` = all.
+    pub only: Option<String>,
 }
 
 /// Outcome of one check.
@@ -37,6 +41,9 @@ pub enum Verdict {
     Fail,
     /// Reported for information only (no tolerance).
     Info,
+    /// Outside the tolerance of an issue that is still open (a known, stated gap): shown in
+    /// the report and the summary, but does not fail the suite.
+    Open,
 }
 
 impl Verdict {
@@ -46,6 +53,7 @@ impl Verdict {
             Verdict::Pass => "PASS",
             Verdict::Fail => "FAIL",
             Verdict::Info => "INFO",
+            Verdict::Open => "OPEN",
         }
     }
 }
@@ -89,7 +97,7 @@ pub(crate) fn relative_check(
         measured: format!("{} {unit}", fmt_num(measured)),
         reference: format!("{} {unit}", fmt_num(reference)),
         error: format!("{:+.1} %", 100.0 * err),
-        tolerance: format!("± {:.0} %", 100.0 * tolerance),
+        tolerance: format!("± {} %", fmt_percent(100.0 * tolerance)),
         reason: reason.into(),
         verdict: if pass { Verdict::Pass } else { Verdict::Fail },
     }
@@ -142,6 +150,37 @@ pub(crate) fn info_row(
 }
 
 /// A check that could not be evaluated (the run failed or gave no data): a FAIL with the cause.
+/// Turns a failed check into an `Open` one: the target of a still-open issue, not met yet.
+/// `gap` says which issue and what is known about the cause.
+pub(crate) fn open_if_failed(mut check: Check, gap: &str) -> Check {
+    if check.verdict == Verdict::Fail {
+        check.verdict = Verdict::Open;
+        check.reason = format!("{} — OPEN: {gap}", check.reason);
+    }
+    check
+}
+
+/// A check that every fluid particle is still inside the tank (issue 7: "no particle leaves
+/// the tank in any validation case").
+pub(crate) fn stayed_inside<const D: usize>(group: &str, sim: &slosh_core::Simulation<D>) -> Check {
+    let n = sim.fluid().position.len();
+    let inside = sim.fluid_inside();
+    Check {
+        group: group.into(),
+        name: "fluid particles inside the tank at the end".into(),
+        measured: format!("{inside} of {n}"),
+        reference: format!("{n}"),
+        error: format!("{}", n - inside),
+        tolerance: "0".into(),
+        reason: "a particle through a wall is a broken boundary".into(),
+        verdict: if inside == n {
+            Verdict::Pass
+        } else {
+            Verdict::Fail
+        },
+    }
+}
+
 pub(crate) fn failed_run(group: &str, name: &str, cause: &str) -> Check {
     Check {
         group: group.into(),
@@ -156,6 +195,13 @@ pub(crate) fn failed_run(group: &str, name: &str, cause: &str) -> Check {
 }
 
 /// Four significant digits, plain notation for ordinary magnitudes.
+/// A tolerance in per cent: "5", "1.5" (no trailing zeros).
+fn fmt_percent(x: f64) -> String {
+    let s = format!("{x:.2}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// A number with four significant digits (scientific outside 1e-3..1e5).
 pub(crate) fn fmt_num(x: f64) -> String {
     if !x.is_finite() {
         return format!("{x}");
@@ -235,30 +281,82 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
         out: opts.out.clone(),
         verbose: opts.verbose,
     };
+    type StageRun = Box<dyn Fn(&run::Context) -> Vec<(String, GroupResult)>>;
+    type Stage<'a> = (&'a str, StageRun);
+    let one = |title: &'static str, f: fn(&run::Context) -> GroupResult| -> StageRun {
+        Box::new(move |c| vec![(title.to_string(), f(c))])
+    };
+    let stages: Vec<Stage> = vec![
+        (
+            "paper case §3.1: hydrostatic, resonant response, Housner pressure, base shear",
+            Box::new(sloshing::paper_forced_case),
+        ),
+        (
+            "off-resonance forced response",
+            one(
+                "Linear forced response, off resonance",
+                sloshing::off_resonance,
+            ),
+        ),
+        (
+            "free sloshing, three tanks",
+            one("Free-sloshing period", sloshing::free_sloshing),
+        ),
+        (
+            "dam break: front",
+            one("Dam break: surge front", dambreak::front),
+        ),
+        (
+            "dam break: wall pressure",
+            one("Dam break: wall pressure", dambreak::wall_pressure),
+        ),
+        (
+            "modern scheme: period, hydrostatics, resonance, roof impact",
+            Box::new(modern::groups),
+        ),
+        (
+            "modern scheme: dam-break front",
+            one("Modern scheme: dam-break front", dambreak::front_modern),
+        ),
+        (
+            "modern scheme: dam-break pressure",
+            one(
+                "Modern scheme: dam-break pressure",
+                dambreak::wall_pressure_modern,
+            ),
+        ),
+        (
+            "resolution study",
+            one("Resolution study", resolution::study),
+        ),
+    ];
+    // The 3D checks (issue 5) run in the full suite only (≈ 15 min on 2 cores).
+    let stages: Vec<Stage> = if opts.quick {
+        stages
+    } else {
+        let mut all = stages;
+        all.push((
+            "3D: cylinder period, forced cylinder, box against 2D",
+            Box::new(three_d::groups),
+        ));
+        all
+    };
     let mut groups: Vec<(String, GroupResult)> = Vec::new();
     let stage = |name: &str| {
         if opts.verbose {
             eprintln!("[validate {:6.1} s] {name}", start.elapsed().as_secs_f64());
         }
     };
-    stage("paper case §3.1: hydrostatic, resonant response, Housner pressure, base shear");
-    groups.extend(sloshing::paper_forced_case(&ctx));
-    stage("off-resonance forced response");
-    groups.push((
-        "Linear forced response, off resonance".into(),
-        sloshing::off_resonance(&ctx),
-    ));
-    stage("free sloshing, three tanks");
-    groups.push(("Free-sloshing period".into(), sloshing::free_sloshing(&ctx)));
-    stage("dam break: front");
-    groups.push(("Dam break: surge front".into(), dambreak::front(&ctx)));
-    stage("dam break: wall pressure");
-    groups.push((
-        "Dam break: wall pressure".into(),
-        dambreak::wall_pressure(&ctx),
-    ));
-    stage("resolution study");
-    groups.push(("Resolution study".into(), resolution::study(&ctx)));
+    for (name, run_stage) in &stages {
+        let wanted = opts
+            .only
+            .as_ref()
+            .is_none_or(|o| name.to_lowercase().contains(&o.to_lowercase()));
+        if wanted {
+            stage(name);
+            groups.extend(run_stage(&ctx));
+        }
+    }
     stage("writing the report");
     let wall_time_s = start.elapsed().as_secs_f64();
     let report_path = opts.out.join("report.md");
@@ -274,11 +372,12 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
 
 /// The `slosh validate [--quick] [--out DIR]` command: runs the suite, prints the table and
 /// where the report is; returns true when every check passed.
-pub fn cli_validate(quick: bool, out: PathBuf) -> Result<bool> {
+pub fn cli_validate(quick: bool, out: PathBuf, only: Option<String>) -> Result<bool> {
     let report = run_validation(&ValidateOptions {
         quick,
         out,
         verbose: true,
+        only,
     })?;
     print_summary(&report);
     Ok(report.all_pass())

@@ -36,7 +36,7 @@ pub fn study(ctx: &Context) -> GroupResult {
     let mut curves: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
     let mut theory_curve: Option<(Vec<f64>, Vec<f64>)> = None;
     for &dx in spacings {
-        match free_period(ctx, WIDTH, DEPTH, dx, 1.4) {
+        match free_period(ctx, super::run::paper_params(), WIDTH, DEPTH, dx, 1.4) {
             Ok(r) => {
                 period_err.push((dx, r.measured / r.reference - 1.0));
                 g.checks.push(r.check(

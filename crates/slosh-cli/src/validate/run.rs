@@ -55,11 +55,50 @@ pub fn rect_sim(
     tilt: f64,
     dx: f64,
 ) -> Result<Simulation<2>> {
+    rect_sim_with(paper_params(), width, tank_height, depth, roof, tilt, dx)
+}
+
+/// The same tank with any solver parameters.
+pub fn rect_sim_with(
+    params: SphParams,
+    width: f64,
+    tank_height: f64,
+    depth: f64,
+    roof: bool,
+    tilt: f64,
+    dx: f64,
+) -> Result<Simulation<2>> {
     let setup = RectTank2::new(width, tank_height, depth)
         .with_roof(roof)
         .with_initial_tilt(tilt)
         .build(dx)?;
-    Ok(Simulation::new(setup, paper_params())?)
+    Ok(Simulation::new(setup, params)?)
+}
+
+/// A named solver configuration a check group runs with.
+#[derive(Clone, Debug)]
+pub struct Scheme {
+    /// Short name for labels ("paper scheme", "modern scheme").
+    pub label: &'static str,
+    /// Solver parameters.
+    pub params: SphParams,
+}
+
+impl Scheme {
+    /// The paper scheme as the validation runs it ([`paper_params`]).
+    pub fn paper() -> Self {
+        Scheme {
+            label: "paper scheme",
+            params: paper_params(),
+        }
+    }
+    /// The modern preset (`SphParams::modern()`).
+    pub fn modern() -> Self {
+        Scheme {
+            label: "modern scheme",
+            params: SphParams::modern(),
+        }
+    }
 }
 
 /// Sine ground acceleration a_g = A ω² sin(ω (t − settle)) after `settle` s of gravity only

@@ -3,13 +3,14 @@
 //! base shear (Fig. 5) and the free-sloshing period of three tanks.
 
 use super::run::{
-    interpolate, max_in_window, rect_sim, rms, slope_through_origin, zero_crossings, Context,
-    Runner, SineExcitation, GRAVITY, RHO,
+    interpolate, max_in_window, paper_params, rect_sim, rect_sim_with, rms, slope_through_origin,
+    zero_crossings, Context, Runner, SineExcitation, GRAVITY, RHO,
 };
 use super::{
     failed_run, fmt_num, info_row, plot_path, ratio_band_check, relative_check, GroupResult,
     PlotRef,
 };
+use slosh_core::SphParams;
 use slosh_io::{line_plot, scatter_with_identity, PlotSpec, Series};
 use slosh_theory::housner;
 use slosh_theory::linear::RectangularTank;
@@ -638,7 +639,14 @@ pub fn free_sloshing(ctx: &Context) -> GroupResult {
     let mut g = GroupResult::default();
     let mut curves: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
     for &(w, d) in &FREE_TANKS {
-        match free_period(ctx, w, d, PAPER_DX, if ctx.quick { 1.6 } else { 2.6 }) {
+        match free_period(
+            ctx,
+            paper_params(),
+            w,
+            d,
+            PAPER_DX,
+            if ctx.quick { 1.6 } else { 2.6 },
+        ) {
             Ok(r) => {
                 g.checks.push(r.check(
                     "Free sloshing",
@@ -730,6 +738,7 @@ impl FreePeriod {
 /// ≈ 2–3 %); the period is taken from the zero crossings of β₁.
 pub fn free_period(
     ctx: &Context,
+    params: SphParams,
     width: f64,
     depth: f64,
     dx: f64,
@@ -738,7 +747,7 @@ pub fn free_period(
     let tilt = 0.1 * depth;
     // Open tank, walls 0.2 m above the still surface (whole multiples of dx).
     let tank_height = ((depth + 0.2) / dx).round() * dx;
-    let sim = rect_sim(width, tank_height, depth, false, tilt, dx)?;
+    let sim = rect_sim_with(params, width, tank_height, depth, false, tilt, dx)?;
     // Theory for the depth the lattice represents (whole rows of dx).
     let depth = sim.fill_level() - sim.interior_bounds().0.y;
     let t1 = rectangular_period(width, depth, GRAVITY, 1);

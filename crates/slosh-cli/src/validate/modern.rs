@@ -1,0 +1,640 @@
+//! The modern scheme (issue 7) beside the paper scheme: free-sloshing period, hydrostatic
+//! pressure and its scatter, resonant growth, roof impact of the paper's §3.2 case, and (full
+//! suite) the 50 s run of the §3.3 case. The dam-break checks of the modern scheme live in
+//! `dambreak.rs` beside the paper scheme's.
+
+use super::run::{
+    max_in_window, rect_sim_with, Context, Runner, Scheme, SineExcitation, GRAVITY, RHO,
+};
+use super::three_d::free_run;
+use super::{
+    failed_run, fmt_num, info_row, open_if_failed, plot_path, ratio_band_check, relative_check,
+    stayed_inside, Check, GroupResult, PlotRef, Verdict,
+};
+use nalgebra::Vector2;
+use slosh_core::{Simulation, SphParams, PART_ROOF};
+use slosh_geometry::{InitialSurface, RectTank2};
+use slosh_io::{line_plot, PlotSpec, Series};
+use slosh_theory::linear::RectangularTank;
+use slosh_theory::modal::sine_response;
+use slosh_theory::natural::rectangular_period;
+
+/// The paper's §3.1 tank and excitation (as `sloshing.rs`).
+const WIDTH: f64 = 1.0;
+const HEIGHT: f64 = 1.0;
+const DEPTH: f64 = 0.5;
+const AMPLITUDE: f64 = 0.0093;
+const OMEGA: f64 = 5.311;
+const SETTLE: f64 = 2.0;
+const DX: f64 = 0.02;
+/// Elevation sample interval (s).
+const SAMPLE: f64 = 0.005;
+/// Modes of the linear solution.
+const MODES: usize = 10;
+
+/// Period tolerance of the modern scheme: 1.5 % (issue 7). Its walls hold the liquid at dx/2
+/// (no kernel-width gap), so what remains is the resolution (H/dx = 15–25) and the
+/// measurement over two periods.
+const PERIOD_TOL: f64 = 0.015;
+/// Hydrostatic slope tolerance of the modern scheme: 2 % (issue 7).
+const SLOPE_TOL: f64 = 0.02;
+/// The scatter of the modern scheme's particle pressures about the hydrostatic line must be at
+/// least 5× smaller than the paper scheme's (issue 7).
+const SCATTER_FACTOR: f64 = 5.0;
+/// Resonant crest band of the modern scheme: within 25 % of undamped linear theory (issue 7).
+const RESONANT_BAND: (f64, f64) = (0.75, 1.25);
+/// Roof-pressure roughness: the modern scheme's must be at most half the paper scheme's (a
+/// history "without the spurious spikes").
+const ROUGHNESS_FACTOR: f64 = 2.0;
+
+/// What is known of the modern scheme's roof-pressure roughness (issue 7 stays open on it).
+const ROOF_GAP: &str = "issue 7: with the wall pressure floored at zero (wall_separation) the \
+    liquid no longer sticks to the roof, but the Adami roof pressure still rings at the step \
+    scale while the wave is in contact; clamping the fluid pressure too (clamp_negative_pressure) \
+    brings the roughness to 0.024 but changes the impact (peak 75 kPa at 2.04 s)";
+
+/// All groups of the modern scheme (the dam break excepted).
+pub fn groups(ctx: &Context) -> Vec<(String, GroupResult)> {
+    let mut out = vec![
+        (
+            "Modern scheme: free-sloshing period".to_string(),
+            period(ctx),
+        ),
+        (
+            "Modern scheme: hydrostatics and resonant growth".to_string(),
+            forced(ctx),
+        ),
+        (
+            "Modern scheme: roof impact (paper §3.2)".to_string(),
+            roof_impact(ctx),
+        ),
+    ];
+    if !ctx.quick {
+        out.push((
+            "Modern scheme: 50 s stability (paper §3.3)".to_string(),
+            stability(ctx),
+        ));
+    }
+    out
+}
+
+/// First-mode period of two tanks of aspect ratio 2:1, both schemes: open tank, first-mode
+/// start (tilt 0.1 H at the wall), period from the crossings of the liquid's centre of mass
+/// over 2.3 T₁ (a volume integral: no gauge noise, no higher modes to shift the crossings).
+fn period(ctx: &Context) -> GroupResult {
+    let group = "Modern period";
+    let mut g = GroupResult::default();
+    for (w, d) in [(1.0, 0.5), (0.6, 0.3)] {
+        for scheme in [Scheme::modern(), Scheme::paper()] {
+            let run = || -> anyhow::Result<(f64, f64, f64, f64)> {
+                let tank_height = ((d + 0.2) / DX).round() * DX;
+                let setup = RectTank2::new(w, tank_height, d)
+                    .with_roof(false)
+                    .with_initial_tilt(0.1 * d)
+                    .with_initial_shape(InitialSurface::FirstMode)
+                    .build(DX)?;
+                let mut sim = Simulation::new(setup, scheme.params.clone())?;
+                let depth = sim.fill_level() - sim.interior_bounds().0.y;
+                let t1 = rectangular_period(w, depth, GRAVITY, 1);
+                ctx.say(&format!(
+                    "{}: free sloshing {w} × {depth:.3} m, {} fluid particles, 2.3 T₁",
+                    scheme.label,
+                    sim.fluid().position.len()
+                ));
+                let (h, steps) = free_run(&mut sim, 2.3 * t1, t1 / 200.0)?;
+                Ok((h.period(), t1, depth, steps))
+            };
+            match run() {
+                Ok((measured, t1, depth, steps)) => {
+                    g.particle_steps += steps;
+                    let name = format!(
+                        "{}: first-mode period, tank {w} × {depth:.2} m",
+                        scheme.label
+                    );
+                    if scheme.label == "modern scheme" {
+                        g.checks.push(relative_check(
+                            group,
+                            &name,
+                            measured,
+                            t1,
+                            "s",
+                            PERIOD_TOL,
+                            "1.5 % (issue 7): Adami walls hold the liquid at dx/2 from the wall, \
+                             no kernel-width gap; what remains is resolution",
+                        ));
+                    } else {
+                        g.checks.push(info_row(
+                            group,
+                            &name,
+                            format!("{} s", fmt_num(measured)),
+                            format!("{} s", fmt_num(t1)),
+                            format!("{:+.2} %", 100.0 * (measured / t1 - 1.0)),
+                            "reported beside the modern scheme (the paper scheme's 5 % check \
+                             is in the free-sloshing group)",
+                        ));
+                    }
+                }
+                Err(e) => g.checks.push(failed_run(
+                    group,
+                    &format!("{} tank {w} × {d} m", scheme.label),
+                    &format!("{e:#}"),
+                )),
+            }
+        }
+    }
+    g.notes.push(format!(
+        "Open tanks, dx = {DX} m, first-mode start cos(πx/L) with 0.1 H at the left wall; \
+         theory for the depth the lattice holds."
+    ));
+    g
+}
+
+/// One scheme's run of the §3.1 case: hydrostatic snapshot at the end of settling, then the
+/// resonant excitation.
+struct ForcedRun {
+    slope: f64,
+    scatter: f64,
+    t: Vec<f64>,
+    eta_left: Vec<f64>,
+    gauge_x: f64,
+    particle_steps: f64,
+    inside: Check,
+}
+
+fn forced_run(
+    ctx: &Context,
+    scheme: &Scheme,
+    excitation_time: f64,
+    group: &str,
+) -> anyhow::Result<ForcedRun> {
+    let sim = rect_sim_with(scheme.params.clone(), WIDTH, HEIGHT, DEPTH, true, 0.0, DX)?;
+    let excitation = SineExcitation {
+        amplitude: AMPLITUDE,
+        omega: OMEGA,
+        settle: SETTLE,
+    };
+    let mut runner = Runner::new(sim, excitation, SAMPLE);
+    ctx.say(&format!(
+        "{}: paper tank, {} fluid particles, to t = {:.1} s",
+        scheme.label,
+        runner.sim.fluid().position.len(),
+        SETTLE + excitation_time
+    ));
+    let still = runner.still_level;
+    let mut hydro: Option<(f64, f64)> = None;
+    runner.run_until(SETTLE + excitation_time, |r| {
+        if hydro.is_none() && r.sim.time() >= SETTLE {
+            let f = r.sim.fluid();
+            let reference: Vec<f64> = f
+                .position
+                .iter()
+                .map(|p| RHO * GRAVITY * (still - p.y))
+                .collect();
+            let slope = fitted_slope(&reference, &f.pressure);
+            let n = reference.len() as f64;
+            let ss: f64 = reference
+                .iter()
+                .zip(&f.pressure)
+                .map(|(a, b)| (a - b) * (a - b))
+                .sum();
+            hydro = Some((slope, (ss / n).sqrt() / (RHO * GRAVITY * still)));
+        }
+    })?;
+    let (slope, scatter) = hydro.unwrap_or((f64::NAN, f64::NAN));
+    Ok(ForcedRun {
+        slope,
+        scatter,
+        t: runner.history.t.iter().map(|t| t - SETTLE).collect(),
+        eta_left: runner.history.eta_left.clone(),
+        gauge_x: runner.gauge_x.0,
+        particle_steps: runner.history.particle_steps,
+        inside: stayed_inside(group, &runner.sim),
+    })
+}
+
+/// Least-squares slope of y on x with an intercept: dp/d(ρ0 g d), independent of where the
+/// zero of d (the still level) is put.
+fn fitted_slope(xs: &[f64], ys: &[f64]) -> f64 {
+    let n = xs.len() as f64;
+    let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
+    let sxy: f64 = xs.iter().zip(ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
+    sxy / sxx
+}
+
+/// Hydrostatic slope and scatter, resonant crest at 2 s and growth over 10 s, both schemes.
+fn forced(ctx: &Context) -> GroupResult {
+    let group = "Modern forced";
+    let mut g = GroupResult::default();
+    let excitation_time = if ctx.quick { 2.5 } else { 10.0 };
+    let mut runs = Vec::new();
+    for scheme in [Scheme::modern(), Scheme::paper()] {
+        match forced_run(ctx, &scheme, excitation_time, group) {
+            Ok(r) => runs.push((scheme, r)),
+            Err(e) => {
+                g.checks.push(failed_run(
+                    group,
+                    &format!("{} §3.1 run", scheme.label),
+                    &format!("{e:#}"),
+                ));
+                return g;
+            }
+        }
+    }
+    let (modern, paper) = (&runs[0].1, &runs[1].1);
+    g.particle_steps = modern.particle_steps + paper.particle_steps;
+    g.checks.push(modern.inside.clone());
+    g.checks.push(relative_check(
+        group,
+        "modern: hydrostatic slope dp/d(ρ0 g d), least squares over all fluid particles at t = 2.0 s",
+        modern.slope,
+        1.0,
+        "",
+        SLOPE_TOL,
+        "2 % (issue 7): continuity density from a hydrostatic start and Adami walls; the EOS \
+         compression itself makes ρ ≈ 1.005 ρ0 at mid-depth",
+    ));
+    g.checks.push(info_row(
+        group,
+        "paper: hydrostatic slope (same instant)",
+        fmt_num(paper.slope),
+        "1".into(),
+        format!("{:+.1} %", 100.0 * (paper.slope - 1.0)),
+        "reported beside the modern scheme",
+    ));
+    let factor = paper.scatter / modern.scatter;
+    g.checks.push(Check {
+        group: group.into(),
+        name: "pressure scatter about ρ g d, RMS / ρ g H: paper ÷ modern".into(),
+        measured: format!(
+            "{:.1}× (paper {:.2} %, modern {:.2} %)",
+            factor,
+            100.0 * paper.scatter,
+            100.0 * modern.scatter
+        ),
+        reference: format!("≥ {SCATTER_FACTOR:.0}×"),
+        error: format!("{factor:.1}×"),
+        tolerance: format!("≥ {SCATTER_FACTOR:.0}×"),
+        reason: "issue 7: the modern pressure field must be at least 5× quieter".into(),
+        verdict: if factor >= SCATTER_FACTOR {
+            Verdict::Pass
+        } else {
+            Verdict::Fail
+        },
+    });
+
+    // Linear theory at the gauge of each run (the same x for both).
+    let tank = RectangularTank::water(WIDTH, DEPTH);
+    let force = -AMPLITUDE * OMEGA * OMEGA;
+    let theory = |ts: &[f64], x: f64| -> Vec<f64> {
+        ts.iter()
+            .map(|&t| {
+                if t < 0.0 {
+                    0.0
+                } else {
+                    tank.elevation(&sine_response(&tank, force, OMEGA, t, MODES), x)
+                }
+            })
+            .collect()
+    };
+    let lin_m = theory(&modern.t, modern.gauge_x);
+    let (crest_m, t_m) = max_in_window(&modern.t, &modern.eta_left, 1.2, 2.4);
+    let (crest_lin, t_lin) = max_in_window(&modern.t, &lin_m, 1.2, 2.4);
+    let (crest_p, _) = max_in_window(&paper.t, &paper.eta_left, 1.2, 2.4);
+    g.checks.push(ratio_band_check(
+        group,
+        &format!(
+            "modern: first crest at the left wall (SPH at {t_m:.2} s, theory at {t_lin:.2} s \
+             after start; paper scheme {} m)",
+            fmt_num(crest_p)
+        ),
+        crest_m,
+        crest_lin,
+        "m",
+        RESONANT_BAND,
+        "25 % (issue 7): undamped linear theory is an upper bound; the modern scheme's wall \
+         gap is gone, so its resonance is not detuned",
+    ));
+    if !ctx.quick {
+        for k in 1..5 {
+            let (t0, t1) = (2.0 * k as f64, 2.0 * (k + 1) as f64);
+            let (cm, _) = max_in_window(&modern.t, &modern.eta_left, t0, t1);
+            let (cp, _) = max_in_window(&paper.t, &paper.eta_left, t0, t1);
+            let (cl, _) = max_in_window(&modern.t, &lin_m, t0, t1);
+            g.checks.push(info_row(
+                group,
+                &format!("largest crest {t0:.0}–{t1:.0} s after start: modern (paper)"),
+                format!("{} m ({} m)", fmt_num(cm), fmt_num(cp)),
+                format!("{} m (linear)", fmt_num(cl)),
+                format!("ratio {:.2} ({:.2})", cm / cl, cp / cl),
+                "reported: growth over 10 s; linear theory grows without bound at resonance",
+            ));
+        }
+    }
+    let stem = "modern_resonant_eta_left";
+    let _ = line_plot(
+        plot_path(&ctx.out, stem),
+        &PlotSpec::new(
+            "Resonant paper case: elevation at the left wall, both schemes",
+            "time since excitation start t (s)",
+            "η at left wall (m)",
+        ),
+        &[
+            Series::line("modern scheme", &modern.t, &modern.eta_left),
+            Series::line("paper scheme", &paper.t, &paper.eta_left),
+            Series::dashed("linear potential theory", &modern.t, &lin_m),
+        ],
+    );
+    g.plots.push(PlotRef {
+        file: format!("{stem}.png"),
+        caption: "η at the left wall, modern and paper schemes against linear theory".into(),
+    });
+    g.notes.push(format!(
+        "Paper §3.1 tank, dx = {DX} m, A = {AMPLITUDE} m, ω = {OMEGA} rad/s after {SETTLE} s of \
+         settling; the hydrostatic snapshot is taken at the end of settling."
+    ));
+    g
+}
+
+/// Roughness of a pressure history: RMS of its departure from the centred running mean over
+/// ±`half` s, divided by the largest value of that running mean. Spikes a few steps long
+/// (spurious) raise it; a physical impact pulse tens of ms long barely does.
+fn roughness(ts: &[f64], ps: &[f64], half: f64) -> f64 {
+    let n = ts.len();
+    if n < 3 {
+        return f64::NAN;
+    }
+    let (mut lo, mut hi, mut sum) = (0usize, 0usize, 0.0);
+    let mut mean = Vec::with_capacity(n);
+    for &t in ts {
+        while hi < n && ts[hi] <= t + half {
+            sum += ps[hi];
+            hi += 1;
+        }
+        while ts[lo] < t - half {
+            sum -= ps[lo];
+            lo += 1;
+        }
+        mean.push(sum / (hi - lo) as f64);
+    }
+    let peak = mean.iter().fold(0.0f64, |m, &v| m.max(v));
+    let ss: f64 = ps.iter().zip(&mean).map(|(p, m)| (p - m) * (p - m)).sum();
+    (ss / n as f64).sqrt() / peak
+}
+
+/// One scheme's roof-pressure history in the §3.2 case.
+struct RoofRun {
+    t: Vec<f64>,
+    /// Largest instantaneous roof pressure (Pa) per step.
+    raw: Vec<f64>,
+    /// Largest ±N-step windowed roof pressure (Pa) per step.
+    windowed: Vec<f64>,
+    particle_steps: f64,
+    inside: Check,
+}
+
+fn roof_run(
+    ctx: &Context,
+    params: SphParams,
+    label: &str,
+    group: &str,
+    excitation_time: f64,
+) -> anyhow::Result<RoofRun> {
+    let mut sim = rect_sim_with(params, WIDTH, 0.6, DEPTH, true, 0.0, DX)?;
+    let excitation = SineExcitation {
+        amplitude: 0.0279,
+        omega: OMEGA,
+        settle: SETTLE,
+    };
+    let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
+    ctx.say(&format!(
+        "{label}: §3.2 roof case (tank 0.6 m, A = 0.0279 m), {} fluid particles",
+        sim.fluid().position.len()
+    ));
+    let roof = sim
+        .part_names()
+        .iter()
+        .position(|n| n == PART_ROOF)
+        .ok_or_else(|| anyhow::anyhow!("the §3.2 tank has no roof part"))? as u16;
+    let on_roof: Vec<usize> = sim
+        .loads()
+        .parts()
+        .iter()
+        .enumerate()
+        .filter(|(_, &p)| p == roof)
+        .map(|(k, _)| k)
+        .collect();
+    let (mut ts, mut windowed, mut particle_steps) = (Vec::new(), Vec::new(), 0.0);
+    let mut raw_by_step: Vec<(f64, f64)> = Vec::new();
+    let mut last = None;
+    while sim.time() < SETTLE + excitation_time {
+        let a = excitation.ground_accel(sim.time());
+        sim.step(Vector2::new(a, 0.0))
+            .map_err(|e| anyhow::anyhow!("stopped at t = {:.3} s: {e}", sim.time()))?;
+        particle_steps += n_all;
+        let l = sim.loads();
+        let p_raw = on_roof
+            .iter()
+            .map(|&k| l.instantaneous_pressure()[k])
+            .fold(0.0f64, f64::max);
+        raw_by_step.push((sim.time() - SETTLE, p_raw));
+        if let Some(c) = l.centred() {
+            if last != Some(c.step) {
+                last = Some(c.step);
+                let p = on_roof
+                    .iter()
+                    .map(|&k| l.centred_pressure()[k])
+                    .fold(0.0f64, f64::max);
+                ts.push(c.time - SETTLE);
+                windowed.push(p);
+            }
+        }
+    }
+    // The raw series on the windowed series' times (the window lags N steps).
+    let n = ts.len().min(raw_by_step.len());
+    let raw: Vec<f64> = raw_by_step[..n].iter().map(|r| r.1).collect();
+    ts.truncate(n);
+    windowed.truncate(n);
+    Ok(RoofRun {
+        t: ts,
+        raw,
+        windowed,
+        particle_steps,
+        inside: stayed_inside(group, &sim),
+    })
+}
+
+/// Paper §3.2 (tank height 0.6 m): roof-pressure histories of both schemes together.
+fn roof_impact(ctx: &Context) -> GroupResult {
+    let group = "Modern roof impact";
+    let mut g = GroupResult::default();
+    let excitation_time = 2.2;
+    let modern = roof_run(
+        ctx,
+        SphParams::modern(),
+        "modern scheme",
+        group,
+        excitation_time,
+    );
+    let paper = roof_run(
+        ctx,
+        SphParams::paper(),
+        "paper scheme",
+        group,
+        excitation_time,
+    );
+    let (modern, paper) = match (modern, paper) {
+        (Ok(m), Ok(p)) => (m, p),
+        (m, p) => {
+            for (label, r) in [("modern", m.err()), ("paper", p.err())] {
+                if let Some(e) = r {
+                    g.checks.push(failed_run(group, label, &format!("{e:#}")));
+                }
+            }
+            return g;
+        }
+    };
+    g.particle_steps = modern.particle_steps + paper.particle_steps;
+    g.checks.push(modern.inside.clone());
+    let half = 0.01;
+    let rough =
+        |r: &RoofRun, raw: bool| roughness(&r.t, if raw { &r.raw } else { &r.windowed }, half);
+    let (m_raw, p_raw) = (rough(&modern, true), rough(&paper, true));
+    let (m_win, p_win) = (rough(&modern, false), rough(&paper, false));
+    let factor = p_raw / m_raw;
+    g.checks.push(open_if_failed(
+        Check {
+            group: group.into(),
+            name: "roughness of the instantaneous peak roof pressure: paper ÷ modern".into(),
+            measured: format!("{factor:.1}× (paper {p_raw:.3}, modern {m_raw:.3})"),
+            reference: format!("≥ {ROUGHNESS_FACTOR:.0}×"),
+            error: format!("{factor:.1}×"),
+            tolerance: format!("≥ {ROUGHNESS_FACTOR:.0}×"),
+            reason: "issue 7: the modern history without the paper scheme's spurious spikes; \
+                 roughness = RMS departure from the ±10 ms running mean ÷ its peak"
+                .into(),
+            verdict: if factor >= ROUGHNESS_FACTOR {
+                Verdict::Pass
+            } else {
+                Verdict::Fail
+            },
+        },
+        ROOF_GAP,
+    ));
+    g.checks.push(info_row(
+        group,
+        "roughness of the ±20-step windowed history: modern (paper)",
+        format!("{m_win:.3} ({p_win:.3})"),
+        "-".into(),
+        format!("ratio {:.1}", p_win / m_win),
+        "reported: the paper's time window (§2.6) hides part of its spikes",
+    ));
+    let peak = |v: &[f64]| v.iter().fold(0.0f64, |m, &x| m.max(x));
+    g.checks.push(info_row(
+        group,
+        "peak roof pressure, ±20-step window: modern (paper)",
+        format!(
+            "{} kPa ({} kPa)",
+            fmt_num(peak(&modern.windowed) / 1e3),
+            fmt_num(peak(&paper.windowed) / 1e3)
+        ),
+        "-".into(),
+        "-".into(),
+        "reported: the impact peak (paper Fig. 8: 0.6 m tank)",
+    ));
+    let stem = "modern_roof_pressure";
+    let _ = line_plot(
+        plot_path(&ctx.out, stem),
+        &PlotSpec::new(
+            "Paper §3.2 (tank 0.6 m): largest roof pressure, both schemes",
+            "time since excitation start t (s)",
+            "largest roof pressure (Pa)",
+        ),
+        &[
+            Series::line("paper scheme, instantaneous", &paper.t, &paper.raw),
+            Series::line("modern scheme, instantaneous", &modern.t, &modern.raw),
+            Series::dashed("paper scheme, ±20 steps", &paper.t, &paper.windowed),
+            Series::dashed("modern scheme, ±20 steps", &modern.t, &modern.windowed),
+        ],
+    );
+    g.plots.push(PlotRef {
+        file: format!("{stem}.png"),
+        caption: "largest roof pressure in the §3.2 case, paper and modern schemes".into(),
+    });
+    g.notes.push(
+        "Paper §3.2: 1.0 m wide tank, roof at 0.6 m, 0.5 m of water, A = 0.0279 m, ω = 5.311 \
+         rad/s after 2 s settling, dx = 0.02 m; each scheme with its own wall-pressure method \
+         (paper: nearest fluid + Eq. 23; modern: Adami extrapolation at the wall face)."
+            .into(),
+    );
+    g
+}
+
+/// The §3.3 case (1.0 m wide, H = 0.5 m, clearance 0.2 H, A = 0.0093 m at ω₁) run 50 s with the
+/// modern scheme.
+fn stability(ctx: &Context) -> GroupResult {
+    let group = "Modern 50 s";
+    let mut g = GroupResult::default();
+    let run = || -> anyhow::Result<(f64, f64, Check, f64)> {
+        let tank_height = DEPTH * 1.2;
+        let mut sim = rect_sim_with(
+            SphParams::modern(),
+            WIDTH,
+            tank_height,
+            DEPTH,
+            true,
+            0.0,
+            DX,
+        )?;
+        let omega = 2.0 * std::f64::consts::PI / rectangular_period(WIDTH, DEPTH, GRAVITY, 1);
+        let excitation = SineExcitation {
+            amplitude: AMPLITUDE,
+            omega,
+            settle: SETTLE,
+        };
+        let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
+        let roof = sim.part_names().iter().position(|n| n == PART_ROOF);
+        let on_roof: Vec<usize> = sim
+            .loads()
+            .parts()
+            .iter()
+            .enumerate()
+            .filter(|(_, &p)| Some(p as usize) == roof)
+            .map(|(k, _)| k)
+            .collect();
+        let mut roof_p: f64 = 0.0;
+        ctx.say(&format!(
+            "modern scheme: §3.3 case 50 s (roof at {tank_height} m, ω₁ = {omega:.3} rad/s)"
+        ));
+        let mut steps = 0.0;
+        while sim.time() < SETTLE + 50.0 {
+            let a = excitation.ground_accel(sim.time());
+            sim.step(Vector2::new(a, 0.0))
+                .map_err(|e| anyhow::anyhow!("stopped at t = {:.3} s: {e}", sim.time()))?;
+            steps += n_all;
+            let p = sim.loads().centred_pressure();
+            for &k in &on_roof {
+                roof_p = roof_p.max(p[k]);
+            }
+        }
+        Ok((sim.time(), roof_p, stayed_inside(group, &sim), steps))
+    };
+    match run() {
+        Ok((t, roof_p, inside, steps)) => {
+            g.particle_steps = steps;
+            g.checks.push(inside);
+            g.checks.push(info_row(
+                group,
+                "reached t (s) without blow-up; peak roof pressure",
+                format!("{t:.2} s; {} kPa", fmt_num(roof_p / 1e3)),
+                "52 s".into(),
+                "-".into(),
+                "issue 7: a 50 s run of the §3.3 case stays stable (a blow-up fails the run)",
+            ));
+        }
+        Err(e) => g
+            .checks
+            .push(failed_run(group, "50 s run", &format!("{e:#}"))),
+    }
+    g
+}

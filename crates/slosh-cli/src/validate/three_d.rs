@@ -1,0 +1,459 @@
+//! 3D checks (issue 5), modern scheme: free-sloshing period of an upright cylinder for two
+//! aspect ratios against ω₁² = (g ξ₁/R) tanh(ξ₁ H/R); the small-amplitude forced response and
+//! base shear of a cylinder against the linear (Veletsos-type rigid tank) modal solution with
+//! Housner's approximation beside it; a thin 3D box against the 2D code.
+
+use super::run::{zero_crossings, Context, GRAVITY, RHO};
+use super::sloshing::period_from_crossings;
+use super::{
+    failed_run, fmt_num, info_row, plot_path, relative_check, stayed_inside, Check, GroupResult,
+    PlotRef, Verdict,
+};
+use anyhow::{anyhow, Result};
+use nalgebra::Vector3;
+use slosh_core::loads::base_shear_x;
+use slosh_core::{Simulation, SphParams, PART_ROOF};
+use slosh_geometry::{BoxTank, CylinderTank, InitialSurface, Roof};
+use slosh_io::{line_plot, PlotSpec, Series};
+use slosh_theory::cylinder::{
+    housner_cylinder_convective_mass_ratio, housner_cylinder_convective_omega,
+    housner_cylinder_impulsive_mass_ratio, CylindricalTank,
+};
+use slosh_theory::modal::{sine_response, ModalTank};
+use slosh_theory::natural::rectangular_period;
+
+/// Period tolerance in 3D: 3 % (issue 5). At 12–16 particles across the radius the lattice
+/// staircase of the curved wall and the kernel smoothing of the surface are a few per cent.
+const PERIOD_TOL_3D: f64 = 0.03;
+/// 2D against 3D box: the same code in both dimensions; the box's side walls are free-slip
+/// Adami walls, so the two runs differ only by the kernel's dimension: 1.5 %.
+const BOX_TOL: f64 = 0.015;
+/// Forced response: normalised RMS difference of the wall elevation and base shear against
+/// linear theory. Off resonance the response is linear and hardly damped; the windowed wall
+/// pressure and the gauge at 12 particles per radius carry ≈ 10–15 % noise: 25 %.
+const FORCED_TOL: f64 = 0.25;
+/// Modes of the linear solution.
+const MODES: usize = 10;
+
+/// All 3D groups.
+pub fn groups(ctx: &Context) -> Vec<(String, GroupResult)> {
+    vec![
+        (
+            "3D: cylinder free-sloshing period".into(),
+            cylinder_periods(ctx),
+        ),
+        (
+            "3D: cylinder forced response and base shear".into(),
+            cylinder_forced(ctx),
+        ),
+        ("3D: thin box against the 2D code".into(), box_vs_2d(ctx)),
+    ]
+}
+
+/// Crossings of the liquid's centre of mass along x (about its mean) after the first one:
+/// the period of the first mode (the start is the first-mode surface, so higher modes carry
+/// almost nothing; the centre of mass is a volume integral, free of gauge noise).
+pub(crate) struct ComHistory {
+    /// Sample times (s).
+    pub t: Vec<f64>,
+    /// Centre of mass x (m).
+    pub x: Vec<f64>,
+}
+
+impl ComHistory {
+    /// Mean period from the crossings of the mean (first crossing skipped), s.
+    pub(crate) fn period(&self) -> f64 {
+        let mean = self.x.iter().sum::<f64>() / self.x.len().max(1) as f64;
+        let centred: Vec<f64> = self.x.iter().map(|x| x - mean).collect();
+        let amp = centred.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let crossings = zero_crossings(&self.t, &centred, 0.2 * amp);
+        period_from_crossings(&crossings[1.min(crossings.len())..])
+    }
+}
+
+fn com_x<const D: usize>(sim: &Simulation<D>) -> f64 {
+    let f = &sim.fluid().position;
+    f.iter().map(|p| p[0]).sum::<f64>() / f.len() as f64
+}
+
+/// Runs a 3D simulation without excitation to `t_end`, sampling the centre of mass.
+pub(crate) fn free_run<const D: usize>(
+    sim: &mut Simulation<D>,
+    t_end: f64,
+    sample: f64,
+) -> Result<(ComHistory, f64)> {
+    let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
+    let mut h = ComHistory {
+        t: vec![sim.time()],
+        x: vec![com_x(sim)],
+    };
+    let mut steps = 0.0;
+    let mut next = sample;
+    while sim.time() < t_end {
+        sim.step(nalgebra::SVector::<f64, D>::zeros())
+            .map_err(|e| anyhow!("stopped at t = {:.3} s: {e}", sim.time()))?;
+        steps += n_all;
+        if sim.time() >= next {
+            next += sample;
+            h.t.push(sim.time());
+            h.x.push(com_x(sim));
+        }
+    }
+    Ok((h, steps))
+}
+
+/// First-mode period of cylinders of H/R = 1 and 0.5 (modern scheme, first-mode start).
+fn cylinder_periods(ctx: &Context) -> GroupResult {
+    let group = "3D period";
+    let mut g = GroupResult::default();
+    let mut curves = Vec::new();
+    for (radius, depth, dx) in [(0.5, 0.5, 0.04), (0.4, 0.2, 0.025)] {
+        let run = || -> Result<(f64, f64, f64, ComHistory, Check, f64)> {
+            let setup = CylinderTank::new(radius, depth + 0.2, depth, Roof::None)
+                .with_initial_tilt(0.02 * radius)
+                .with_initial_shape(InitialSurface::FirstMode)
+                .build(dx)?;
+            let mut sim = Simulation::new(setup, SphParams::modern())?;
+            let fill = sim.fill_level();
+            let theory = CylindricalTank::new(radius, fill, RHO, GRAVITY);
+            let t1 = 2.0 * std::f64::consts::PI / theory.modal_omega(0);
+            ctx.say(&format!(
+                "3D cylinder R = {radius} m, H = {fill:.3} m, dx = {dx} m, {} + {} particles, 2.6 T₁",
+                sim.fluid().position.len(),
+                sim.walls().position.len()
+            ));
+            let (h, steps) = free_run(&mut sim, 2.6 * t1, t1 / 100.0)?;
+            let inside = stayed_inside(group, &sim);
+            Ok((h.period(), t1, fill, h, inside, steps))
+        };
+        match run() {
+            Ok((measured, t1, fill, h, inside, steps)) => {
+                g.particle_steps += steps;
+                g.checks.push(inside);
+                g.checks.push(relative_check(
+                    group,
+                    &format!(
+                        "period, R = {radius} m, H = {fill:.3} m (H/R = {:.2}), dx = {dx} m",
+                        fill / radius
+                    ),
+                    measured,
+                    t1,
+                    "s",
+                    PERIOD_TOL_3D,
+                    "3 % (issue 5): 12–16 particles per radius; staircase wall and surface \
+                     smoothing",
+                ));
+                let x0 = h.x[0];
+                curves.push((
+                    format!("R = {radius} m, H = {fill:.2} m"),
+                    h.t.iter().map(|t| t / t1).collect::<Vec<_>>(),
+                    h.x.iter().map(|x| x / x0).collect::<Vec<_>>(),
+                ));
+            }
+            Err(e) => g.checks.push(failed_run(
+                group,
+                &format!("cylinder R = {radius} m, H = {depth} m"),
+                &format!("{e:#}"),
+            )),
+        }
+    }
+    let stem = "cylinder_free_sloshing";
+    let series: Vec<Series> = curves
+        .iter()
+        .map(|(l, x, y)| Series::line(l.clone(), x, y))
+        .collect();
+    let _ = line_plot(
+        plot_path(&ctx.out, stem),
+        &PlotSpec::new(
+            "Cylinder free sloshing (modern scheme), first-mode start",
+            "t / T₁ (theory) (-)",
+            "centre of mass x / initial (-)",
+        ),
+        &series,
+    );
+    g.plots.push(PlotRef {
+        file: format!("{stem}.png"),
+        caption: "normalised centre-of-mass oscillation of the two cylinders".into(),
+    });
+    g.notes.push(
+        "Start: the first mode's surface −(x/r) J₁(ξ₁ r/R)/J₁(ξ₁) with 0.02 R at the wall, on \
+         the lattice by error diffusion; theory for the depth the lattice holds (whole rows). \
+         Period from the zero crossings of the liquid's centre of mass along x."
+            .into(),
+    );
+    g
+}
+
+/// Sine excitation off resonance: wall elevation and base shear against linear theory.
+fn cylinder_forced(ctx: &Context) -> GroupResult {
+    let group = "3D forced";
+    match cylinder_forced_inner(ctx, group) {
+        Ok(g) => g,
+        Err(e) => {
+            let mut g = GroupResult::default();
+            g.checks.push(failed_run(group, "run", &format!("{e:#}")));
+            g
+        }
+    }
+}
+
+fn cylinder_forced_inner(ctx: &Context, group: &str) -> Result<GroupResult> {
+    let (radius, depth, dx) = (0.5, 0.5, 0.04);
+    let setup = CylinderTank::new(radius, 0.8, depth, Roof::Flat).build(dx)?;
+    let mut sim = Simulation::new(setup, SphParams::modern())?;
+    let fill = sim.fill_level();
+    let still = sim.still_level();
+    let theory = CylindricalTank::new(radius, fill, RHO, GRAVITY);
+    let omega = 0.8 * theory.modal_omega(0);
+    let amplitude = 0.005;
+    let force = -amplitude * omega * omega;
+    let settle = 0.3;
+    let t_end = settle + 4.0;
+    let roof = sim.part_names().iter().position(|n| n == PART_ROOF);
+    let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
+    let gauge = -radius + dx;
+    ctx.say(&format!(
+        "3D cylinder forced: ω = {omega:.3} rad/s = 0.8 ω₁, A = {amplitude} m, {} + {} particles",
+        sim.fluid().position.len(),
+        sim.walls().position.len()
+    ));
+    let (mut te, mut eta, mut eta_lin) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut tb, mut shear, mut shear_lin) = (Vec::new(), Vec::new(), Vec::new());
+    let mut last = None;
+    let mut steps = 0.0;
+    let mut next = 0.0;
+    while sim.time() < t_end {
+        let t = sim.time() - settle;
+        let a = if t < 0.0 {
+            0.0
+        } else {
+            amplitude * omega * omega * (omega * t).sin()
+        };
+        sim.step(Vector3::new(a, 0.0, 0.0))
+            .map_err(|e| anyhow!("stopped at t = {:.3} s: {e}", sim.time()))?;
+        steps += n_all;
+        let t = sim.time() - settle;
+        if t >= 0.0 && sim.time() >= next {
+            next = sim.time() + 0.01;
+            if let Some(z) = sim.surface_level_at(&[gauge, 0.0]) {
+                let s = sine_response(&theory, force, omega, t, MODES);
+                te.push(t);
+                eta.push(z - still);
+                eta_lin.push(theory.elevation(&s, radius - dx, std::f64::consts::PI));
+            }
+        }
+        if let Some(c) = sim.loads().centred() {
+            if last != Some(c.step) {
+                last = Some(c.step);
+                let tc = c.time - settle;
+                if tc >= 0.0 {
+                    let s = sine_response(&theory, force, omega, tc, MODES);
+                    tb.push(tc);
+                    shear.push(base_shear_x(c, roof));
+                    shear_lin.push(theory.base_shear(&s));
+                }
+            }
+        }
+    }
+    let mut g = GroupResult {
+        particle_steps: steps,
+        ..GroupResult::default()
+    };
+    g.checks.push(stayed_inside(group, &sim));
+    let nrms = |a: &[f64], b: &[f64]| {
+        let d: f64 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
+        let r: f64 = b.iter().map(|y| y * y).sum();
+        (d / r).sqrt()
+    };
+    let e_eta = nrms(&eta, &eta_lin);
+    let e_shear = nrms(&shear, &shear_lin);
+    for (name, e) in [
+        ("wall elevation at x = −R + dx, 0–4 s", e_eta),
+        ("base shear (floor + shell), 0–4 s", e_shear),
+    ] {
+        g.checks.push(Check {
+            group: group.into(),
+            name: format!("normalised RMS difference from linear theory: {name}"),
+            measured: format!("{e:.3}"),
+            reference: "0".into(),
+            error: format!("{:.1} %", 100.0 * e),
+            tolerance: format!("≤ {:.0} %", 100.0 * FORCED_TOL),
+            reason: "off resonance the response is linear; gauge and windowed-pressure noise \
+                     at 12 particles per radius ≈ 10–15 %"
+                .into(),
+            verdict: if e.is_finite() && e <= FORCED_TOL {
+                Verdict::Pass
+            } else {
+                Verdict::Fail
+            },
+        });
+    }
+    // Housner (1963): impulsive + first convective mass on springs, peak base shear for this
+    // harmonic excitation (steady state, undamped): V = m_i A ω² + m_c A ω² /(1 − (ω/ω_c)²).
+    let mass = theory.liquid_mass();
+    let m_i = housner_cylinder_impulsive_mass_ratio(radius, fill) * mass;
+    let m_c = housner_cylinder_convective_mass_ratio(radius, fill) * mass;
+    let w_c = housner_cylinder_convective_omega(radius, fill, GRAVITY);
+    let acc = amplitude * omega * omega;
+    let v_housner = m_i * acc + m_c * acc / (1.0 - (omega / w_c).powi(2)).abs();
+    let peak = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    g.checks.push(info_row(
+        group,
+        "peak |base shear|: SPH (linear theory, transient included)",
+        format!(
+            "{} N ({} N)",
+            fmt_num(peak(&shear)),
+            fmt_num(peak(&shear_lin))
+        ),
+        format!("{} N (Housner, steady state)", fmt_num(v_housner)),
+        format!("ratio SPH/Housner {:.2}", peak(&shear) / v_housner),
+        "reported: Housner's steady-state amplitude has no start-up transient (the beating \
+         of the free and forced response can exceed it)",
+    ));
+    let stem = "cylinder_forced";
+    let _ = line_plot(
+        plot_path(&ctx.out, stem),
+        &PlotSpec::new(
+            "Cylinder R = 0.5 m, H = 0.5 m, sine at 0.8 ω₁: wall elevation",
+            "time since excitation start t (s)",
+            "η at x = −R + dx (m)",
+        ),
+        &[
+            Series::line("SPH (modern scheme, dx = 0.04 m)", &te, &eta),
+            Series::dashed("linear theory (10 modes)", &te, &eta_lin),
+        ],
+    );
+    let stem2 = "cylinder_base_shear";
+    let _ = line_plot(
+        plot_path(&ctx.out, stem2),
+        &PlotSpec::new(
+            "Cylinder R = 0.5 m, H = 0.5 m, sine at 0.8 ω₁: base shear",
+            "time since excitation start t (s)",
+            "base shear V_x (N)",
+        ),
+        &[
+            Series::line("SPH (floor + shell, ±20-step window)", &tb, &shear),
+            Series::dashed("linear theory (impulsive + convective)", &tb, &shear_lin),
+        ],
+    );
+    for (s, c) in [
+        (
+            stem,
+            "wall elevation of the forced cylinder against linear theory",
+        ),
+        (
+            stem2,
+            "base shear of the forced cylinder against linear theory",
+        ),
+    ] {
+        g.plots.push(PlotRef {
+            file: format!("{s}.png"),
+            caption: c.into(),
+        });
+    }
+    g.notes.push(format!(
+        "Cylinder R = {radius} m, H = {fill:.3} m, flat roof at 0.8 m, dx = {dx} m, modern \
+         scheme; a_g = A ω² sin ωt, A = {amplitude} m, ω = {omega:.3} rad/s after {settle} s at \
+         rest. Housner masses: impulsive {m_i:.1} kg, convective {m_c:.1} kg of {mass:.1} kg."
+    ));
+    Ok(g)
+}
+
+/// A box 1.0 m long, 3 particles deep, against the 2D tank of the same section.
+fn box_vs_2d(ctx: &Context) -> GroupResult {
+    let group = "3D box vs 2D";
+    let mut g = GroupResult::default();
+    let (width, depth, height, dx) = (1.0, 0.5, 0.7, 0.025);
+    let tilt = 0.02;
+    let t1 = rectangular_period(width, depth, GRAVITY, 1);
+    let run = || -> Result<(f64, f64, ComHistory, ComHistory, Check, f64)> {
+        let setup3 = BoxTank::new(width, 3.0 * dx, height, depth)
+            .with_initial_tilt(tilt)
+            .with_initial_shape(InitialSurface::FirstMode)
+            .build(dx)?;
+        let mut sim3 = Simulation::new(setup3, SphParams::modern())?;
+        let setup2 = slosh_geometry::RectTank2::new(width, height, depth)
+            .with_initial_tilt(tilt)
+            .with_initial_shape(InitialSurface::FirstMode)
+            .build(dx)?;
+        let mut sim2 = Simulation::new(setup2, SphParams::modern())?;
+        ctx.say(&format!(
+            "3D box {width} × {} × {depth} m ({} + {} particles) against 2D ({} + {})",
+            3.0 * dx,
+            sim3.fluid().position.len(),
+            sim3.walls().position.len(),
+            sim2.fluid().position.len(),
+            sim2.walls().position.len()
+        ));
+        let (h3, s3) = free_run(&mut sim3, 2.6 * t1, t1 / 100.0)?;
+        let (h2, s2) = free_run(&mut sim2, 2.6 * t1, t1 / 100.0)?;
+        Ok((
+            h3.period(),
+            h2.period(),
+            h3,
+            h2,
+            stayed_inside(group, &sim3),
+            s3 + s2,
+        ))
+    };
+    match run() {
+        Ok((p3, p2, h3, h2, inside, steps)) => {
+            g.particle_steps = steps;
+            g.checks.push(inside);
+            g.checks.push(relative_check(
+                group,
+                "first-mode period, 3D box against the 2D run",
+                p3,
+                p2,
+                "s",
+                BOX_TOL,
+                "1.5 %: the same solver in 2D and 3D; free-slip side walls; only the \
+                 kernel's dimension differs",
+            ));
+            g.checks.push(info_row(
+                group,
+                "2D and 3D periods against potential theory",
+                format!("{} s / {} s", fmt_num(p2), fmt_num(p3)),
+                format!("{} s", fmt_num(t1)),
+                format!(
+                    "{:+.2} % / {:+.2} %",
+                    100.0 * (p2 / t1 - 1.0),
+                    100.0 * (p3 / t1 - 1.0)
+                ),
+                "reported",
+            ));
+            let stem = "box_vs_2d";
+            let norm = |h: &ComHistory| -> (Vec<f64>, Vec<f64>) {
+                let c = 0.5 * width;
+                let x0 = h.x[0] - c;
+                (
+                    h.t.iter().map(|t| t / t1).collect(),
+                    h.x.iter().map(|x| (x - c) / x0).collect(),
+                )
+            };
+            let (a, b) = norm(&h2);
+            let (c, d) = norm(&h3);
+            let _ = line_plot(
+                plot_path(&ctx.out, stem),
+                &PlotSpec::new(
+                    "Free sloshing 1.0 × 0.5 m: 2D against a thin 3D box (modern scheme)",
+                    "t / T₁ (theory) (-)",
+                    "centre of mass x − L/2, normalised (-)",
+                ),
+                &[Series::line("2D", &a, &b), Series::dashed("3D box", &c, &d)],
+            );
+            g.plots.push(PlotRef {
+                file: format!("{stem}.png"),
+                caption: "centre of mass of the 2D and 3D runs".into(),
+            });
+        }
+        Err(e) => g.checks.push(failed_run(group, "run", &format!("{e:#}"))),
+    }
+    g.notes.push(format!(
+        "Box {width} m long, {:.3} m (3 particles) deep, walled on all sides (free-slip Adami \
+         walls), against the 2D tank of the same section; dx = {dx} m, first-mode start of \
+         {tilt} m.",
+        3.0 * dx
+    ));
+    g
+}
