@@ -223,11 +223,12 @@ impl<const D: usize> CellGrid<D> {
     fn cell_coords(&self, x: &SVector<f64, D>) -> [usize; D] {
         let mut c = [0usize; D];
         for k in 0..D {
-            let f = ((x[k] - self.origin[k]) * self.inv_cell).floor();
-            c[k] = if f <= 0.0 || f.is_nan() {
-                0
-            } else {
+            // Truncation is the floor for positive values (and cheaper than `floor`).
+            let f = (x[k] - self.origin[k]) * self.inv_cell;
+            c[k] = if f > 0.0 {
                 (f as usize).min(self.dims[k] - 1)
+            } else {
+                0 // negative, or NaN
             };
         }
         c

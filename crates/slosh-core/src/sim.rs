@@ -237,6 +237,8 @@ pub struct Simulation<const D: usize> {
     sorted_every_step: bool,
     /// Block bounds of the colour sweeps ([`CellGrid::colour_blocks`]).
     blocks: Vec<u32>,
+    /// Fluid → wall density sums of the sorted density pass.
+    wall_scatter: WallScatter,
 }
 
 impl<const D: usize> Simulation<D> {
@@ -448,6 +450,7 @@ impl<const D: usize> Simulation<D> {
             modern,
             still_level_cached: 0.0,
             blocks: Vec::new(),
+            wall_scatter: WallScatter::default(),
             params,
         };
         sim.still_level_cached = sim.still_level();
@@ -457,6 +460,7 @@ impl<const D: usize> Simulation<D> {
             sim.blocks.reserve(cells / grid.stencil_reach().max(1) + 2);
         }
         if sim.sorted_every_step {
+            sim.wall_scatter = WallScatter::new(n_wall);
             sim.sort_and_index();
         } else {
             sim.sort_by_cell();
@@ -658,6 +662,7 @@ impl<const D: usize> Simulation<D> {
                 &mut self.walls,
                 &mut self.next_density,
                 &mut self.next_wall_density,
+                &mut self.wall_scatter,
             ),
             Search::Grid(s) => density_pass(
                 s,
@@ -810,6 +815,11 @@ impl<const D: usize> Simulation<D> {
     /// The fluid particles.
     pub fn fluid(&self) -> &Fluid<D> {
         &self.fluid
+    }
+    /// Bytes of the buffers of the pair sweeps of the paper step (fluid → wall density sums
+    /// and block bounds), beside the arrays of [`Fluid`] and [`Walls`].
+    pub fn sweep_buffer_bytes(&self) -> usize {
+        self.wall_scatter.heap_bytes() + self.blocks.capacity() * 4
     }
     /// The wall particles.
     pub fn walls(&self) -> &Walls<D> {
@@ -1099,31 +1109,57 @@ fn wall_density_and_eos<const D: usize, S: NeighbourSearch<D>>(
         let inv_rho = &fluid.inverse_density;
         let wall_pos = &walls.position;
         let wall_inv_rho = &walls.inverse_density;
-        next_wall_density
-            .par_iter_mut()
-            .zip(walls.nearest_fluid.par_iter_mut())
-            .enumerate()
-            .with_min_len(PAR_CHUNK)
-            .for_each(|(w_i, (rho_out, nearest_out))| {
-                let (rho_sum, kernel_sum, nearest) = wall_summation(
-                    search,
-                    c,
-                    &wall_pos[w_i],
-                    pos,
-                    inv_rho,
-                    wall_pos,
-                    wall_inv_rho,
-                );
-                // Eq. 20 applies to wall particles too: a wall particle with too few
-                // neighbours (outer layers, above the liquid) keeps ρ0.
-                *rho_out = if kernel_sum < c.free_surface_threshold {
-                    c.rest_density
-                } else {
-                    rho_sum
-                };
-                *nearest_out = nearest.1;
-            });
+        wall_densities(c, next_wall_density, &mut walls.nearest_fluid, |w_i| {
+            let (rho_sum, kernel_sum, nearest) = wall_summation(
+                search,
+                c,
+                &wall_pos[w_i],
+                pos,
+                inv_rho,
+                wall_pos,
+                wall_inv_rho,
+            );
+            (rho_sum, kernel_sum, nearest.1)
+        });
     }
+    eos_pass(c, fluid, walls, next_density, next_wall_density);
+}
+
+/// Wall densities from `sums(w) = (Σ m W, Σ (m/ρ) W, nearest fluid particle)` over the fluid
+/// and wall neighbours of wall particle w (Eq. 19), with the Eq. 20 reset.
+fn wall_densities<F: Fn(usize) -> (f64, f64, u32) + Sync>(
+    c: &PassConstants,
+    next_wall_density: &mut [f64],
+    nearest_fluid: &mut [u32],
+    sums: F,
+) {
+    next_wall_density
+        .par_iter_mut()
+        .zip(nearest_fluid.par_iter_mut())
+        .enumerate()
+        .with_min_len(PAR_CHUNK)
+        .for_each(|(w_i, (rho_out, nearest_out))| {
+            let (rho_sum, kernel_sum, nearest) = sums(w_i);
+            // Eq. 20 applies to wall particles too: a wall particle with too few
+            // neighbours (outer layers, above the liquid) keeps ρ0.
+            *rho_out = if kernel_sum < c.free_surface_threshold {
+                c.rest_density
+            } else {
+                rho_sum
+            };
+            *nearest_out = nearest;
+        });
+}
+
+/// The free-surface reset (Eq. 20) and the EOS (Eq. 18) of fluid and wall particles from
+/// the density sums.
+fn eos_pass<const D: usize>(
+    c: &PassConstants,
+    fluid: &mut Fluid<D>,
+    walls: &mut Walls<D>,
+    next_density: &[f64],
+    next_wall_density: &[f64],
+) {
     // Eq. 20: free-surface reset, then Eq. 18: pressure.
     fluid
         .density
@@ -1314,18 +1350,18 @@ impl<T> SharedSlice<T> {
     }
 }
 
-/// Runs `block(begin, end)` for every block of slots given by `bounds` (see
+/// Runs `block(b, begin, end)` for every block b of slots given by `bounds` (see
 /// [`CellGrid::colour_blocks`]): first the even blocks in parallel, then the odd ones. A block
 /// may write its own slots and those of the next block; blocks of one colour never meet, and
 /// the result does not depend on the number of threads.
-fn colour_sweep<F: Fn(usize, usize) + Sync>(bounds: &[u32], block: F) {
+fn colour_sweep<F: Fn(usize, usize, usize) + Sync>(bounds: &[u32], block: F) {
     let n_blocks = bounds.len().saturating_sub(1);
     for parity in 0..2 {
         (parity..n_blocks)
             .into_par_iter()
             .step_by(2)
             .with_max_len(1)
-            .for_each(|b| block(bounds[b] as usize, bounds[b + 1] as usize));
+            .for_each(|b| block(b, bounds[b] as usize, bounds[b + 1] as usize));
     }
 }
 
@@ -1333,6 +1369,7 @@ fn colour_sweep<F: Fn(usize, usize) + Sync>(bounds: &[u32], block: F) {
 /// evaluated once, from the particle that finds the other in its forward half stencil, and
 /// adds to both. Fills the half neighbour lists (forward fluid neighbours and all wall
 /// neighbours) for [`force_pass_sorted`].
+#[allow(clippy::too_many_arguments)]
 fn density_pass_sorted<const D: usize>(
     grid: &CellGrid<D>,
     blocks: &[u32],
@@ -1341,10 +1378,13 @@ fn density_pass_sorted<const D: usize>(
     walls: &mut Walls<D>,
     next_density: &mut [f64],
     next_wall_density: &mut [f64],
+    scatter: &mut WallScatter,
 ) {
     let kernel = c.kernel;
     let m = c.mass;
     let w0 = kernel.value(0.0);
+    let n_wall = walls.position.len();
+    scatter.clear();
     next_density
         .par_iter_mut()
         .zip(fluid.kernel_sum.par_iter_mut())
@@ -1369,7 +1409,13 @@ fn density_pass_sorted<const D: usize>(
         let grad_acc = SharedSlice::new(&mut fluid.strain_rate);
         let entries = SharedSlice::new(&mut fluid.neighbours.entries);
         let counts = SharedSlice::new(&mut fluid.neighbours.count);
-        colour_sweep(blocks, |begin, end| {
+        let wall_rho_acc = SharedSlice::new(&mut scatter.rho);
+        let wall_ksum_acc = SharedSlice::new(&mut scatter.kernel_sum);
+        let wall_near_r2 = SharedSlice::new(&mut scatter.nearest_r2);
+        let wall_near = SharedSlice::new(&mut scatter.nearest);
+        colour_sweep(blocks, |b, begin, end| {
+            // This block's set of wall sums (see WallScatter).
+            let set = (b % WallScatter::SETS) * n_wall;
             for i in begin..end {
                 let xi = pos[i];
                 let vi = vel[i];
@@ -1419,6 +1465,19 @@ fn density_pass_sorted<const D: usize>(
                         let w = kernel.value(r2.sqrt());
                         rho_sum += m * w;
                         kernel_sum += m * wall_inv_rho[w_idx] * w;
+                        // The pair's share of the wall particle's sums (Eq. 19 at the wall).
+                        // SAFETY: blocks using one set are ≥ 3 stencil reaches apart, farther
+                        // than two fluid neighbours of one wall particle can be.
+                        unsafe {
+                            let k = set + w_idx;
+                            *wall_rho_acc.at(k) += m * w;
+                            *wall_ksum_acc.at(k) += volume_i * w;
+                            let near = wall_near_r2.at(k);
+                            if r2 < *near {
+                                *near = r2;
+                                *wall_near.at(k) = i as u32;
+                            }
+                        }
                         if listed < capacity {
                             list[listed] = w_idx as u32 | WALL_NEIGHBOUR;
                             listed += 1;
@@ -1454,7 +1513,89 @@ fn density_pass_sorted<const D: usize>(
             }
             *g = v_tensor;
         });
-    wall_density_and_eos(grid, c, fluid, walls, next_density, next_wall_density);
+    {
+        let wall_pos = &walls.position;
+        let wall_inv_rho = &walls.inverse_density;
+        let scatter = &*scatter;
+        wall_densities(c, next_wall_density, &mut walls.nearest_fluid, |w_i| {
+            // Fluid neighbours: the sets of the sweep, in a fixed order.
+            let (mut rho_sum, mut kernel_sum) = (0.0, 0.0);
+            let mut nearest = (f64::INFINITY, u32::MAX);
+            for s in 0..WallScatter::SETS {
+                let k = s * n_wall + w_i;
+                rho_sum += scatter.rho[k];
+                kernel_sum += scatter.kernel_sum[k];
+                let candidate = (scatter.nearest_r2[k], scatter.nearest[k]);
+                if candidate.0 < nearest.0 || (candidate.0 == nearest.0 && candidate.1 < nearest.1)
+                {
+                    nearest = candidate;
+                }
+            }
+            // Wall neighbours.
+            let xw = wall_pos[w_i];
+            grid.for_each_wall_candidate(&xw, |k| {
+                let r2 = (xw - wall_pos[k]).norm_squared();
+                if r2 < c.support_sq {
+                    let w = kernel.value(r2.sqrt());
+                    rho_sum += m * w;
+                    kernel_sum += m * wall_inv_rho[k] * w;
+                }
+            });
+            (rho_sum, kernel_sum, nearest.1)
+        });
+    }
+    eos_pass(c, fluid, walls, next_density, next_wall_density);
+}
+
+/// The fluid particles' shares of the wall particles' density sums (Eq. 19 at walls),
+/// scattered by the density sweep: one set of sums per block residue modulo [`Self::SETS`],
+/// so that blocks running at the same time never add to the same entry.
+#[derive(Clone, Debug, Default)]
+struct WallScatter {
+    /// Σ m W per set and wall particle (set-major).
+    rho: Vec<f64>,
+    /// Σ (m/ρ_j) W per set and wall particle.
+    kernel_sum: Vec<f64>,
+    /// Squared distance of the nearest fluid particle per set and wall particle.
+    nearest_r2: Vec<f64>,
+    /// That fluid particle (u32::MAX: none).
+    nearest: Vec<u32>,
+}
+
+impl WallScatter {
+    /// Sets: blocks b and b + 4 of one colour are ≥ 3 stencil reaches apart, while two fluid
+    /// neighbours of one wall particle are at most 2 apart.
+    const SETS: usize = 4;
+
+    fn new(n_wall: usize) -> Self {
+        let len = Self::SETS * n_wall;
+        WallScatter {
+            rho: vec![0.0; len],
+            kernel_sum: vec![0.0; len],
+            nearest_r2: vec![f64::INFINITY; len],
+            nearest: vec![u32::MAX; len],
+        }
+    }
+
+    fn clear(&mut self) {
+        self.rho
+            .par_iter_mut()
+            .zip(self.kernel_sum.par_iter_mut())
+            .zip(self.nearest_r2.par_iter_mut())
+            .zip(self.nearest.par_iter_mut())
+            .with_min_len(4 * PAR_CHUNK)
+            .for_each(|(((r, k), d), n)| {
+                *r = 0.0;
+                *k = 0.0;
+                *d = f64::INFINITY;
+                *n = u32::MAX;
+            });
+    }
+
+    /// Bytes held.
+    fn heap_bytes(&self) -> usize {
+        self.rho.len() * 28
+    }
 }
 
 /// Force pass (Eq. 8–16, as [`force_pass`]) on cell-sorted fluid arrays with the half lists
@@ -1503,7 +1644,7 @@ fn force_pass_sorted<const D: usize>(
         .with_min_len(PAR_CHUNK)
         .for_each(|a| *a = body_force);
     let acc_shared = SharedSlice::new(&mut fluid.acceleration);
-    colour_sweep(blocks, |begin, end| {
+    colour_sweep(blocks, |_, begin, end| {
         for i in begin..end {
             let xi = pos[i];
             let vi = vel[i];
