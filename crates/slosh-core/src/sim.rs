@@ -32,6 +32,8 @@ pub type Tensor<const D: usize> = SMatrix<f64, D, D>;
 /// Chunk length for rayon loops: large enough to amortise scheduling.
 const PAR_CHUNK: usize = 256;
 
+/// Candidates gathered before evaluation in the sorted density pass.
+const BATCH: usize = 32;
 /// Marks a wall particle in a neighbour list (the low 31 bits hold its index).
 const WALL_NEIGHBOUR: u32 = 1 << 31;
 /// Count value meaning "the list overflowed: search again".
@@ -1428,36 +1430,50 @@ fn density_pass_sorted<const D: usize>(
                 let mut rho_sum = m * w0;
                 let mut kernel_sum = volume_i * w0;
                 let mut grad_v = Tensor::<D>::zeros();
+                // The candidates within the support are gathered in batches without a branch
+                // per candidate, then evaluated in a loop without unpredictable branches.
+                let mut process = |batch_j: &[u32], batch_r2: &[f64]| {
+                    for (&j, &r2) in batch_j.iter().zip(batch_r2) {
+                        let j = j as usize;
+                        let xij = xi - pos[j];
+                        let r = r2.sqrt();
+                        let (w, grad_factor) = kernel.value_and_gradient_factor(r);
+                        let volume_j = m * inv_rho[j];
+                        let mw = m * w;
+                        rho_sum += mw;
+                        kernel_sum += volume_j * w;
+                        // (v_j − v_i) ⊗ ∇_i W_ij; for j the pair gives (v_i − v_j) ⊗ ∇_j W_ji,
+                        // the same tensor.
+                        let outer = (vel[j] - vi) * (xij * grad_factor).transpose();
+                        grad_v += outer * volume_j;
+                        // SAFETY: j is in this block or the next (colour_blocks).
+                        unsafe {
+                            *rho_acc.at(j) += mw;
+                            *ksum_acc.at(j) += volume_i * w;
+                            *grad_acc.at(j) += outer * volume_i;
+                        }
+                    }
+                    let room = batch_j.len().min(capacity - listed);
+                    list[listed..listed + room].copy_from_slice(&batch_j[..room]);
+                    listed += room;
+                    overflow |= room < batch_j.len();
+                };
+                let mut batch_j = [0u32; BATCH];
+                let mut batch_r2 = [0.0f64; BATCH];
+                let mut batched = 0usize;
                 grid.for_each_forward_range(i, &xi, |j0, j1| {
                     for j in j0..j1 {
-                        let xij = xi - pos[j];
-                        let r2 = xij.norm_squared();
-                        if r2 < c.support_sq {
-                            let r = r2.sqrt();
-                            let (w, grad_factor) = kernel.value_and_gradient_factor(r);
-                            let volume_j = m * inv_rho[j];
-                            let mw = m * w;
-                            rho_sum += mw;
-                            kernel_sum += volume_j * w;
-                            // (v_j − v_i) ⊗ ∇_i W_ij; for j the pair gives (v_i − v_j) ⊗ ∇_j W_ji,
-                            // the same tensor.
-                            let outer = (vel[j] - vi) * (xij * grad_factor).transpose();
-                            grad_v += outer * volume_j;
-                            // SAFETY: j is in this block or the next (colour_blocks).
-                            unsafe {
-                                *rho_acc.at(j) += mw;
-                                *ksum_acc.at(j) += volume_i * w;
-                                *grad_acc.at(j) += outer * volume_i;
-                            }
-                            if listed < capacity {
-                                list[listed] = j as u32;
-                                listed += 1;
-                            } else {
-                                overflow = true;
-                            }
+                        let r2 = (xi - pos[j]).norm_squared();
+                        batch_j[batched] = j as u32;
+                        batch_r2[batched] = r2;
+                        batched += (r2 < c.support_sq) as usize;
+                        if batched == BATCH {
+                            process(&batch_j, &batch_r2);
+                            batched = 0;
                         }
                     }
                 });
+                process(&batch_j[..batched], &batch_r2[..batched]);
                 grid.for_each_wall_candidate(&xi, |w_idx| {
                     let xiw = xi - wall_pos[w_idx];
                     let r2 = xiw.norm_squared();
@@ -1623,14 +1639,11 @@ fn force_pass_sorted<const D: usize>(
     let viscous = c.viscosity > 0.0;
     let av_on = c.av_alpha > 0.0 || c.av_beta > 0.0;
     // Eq. 10: Π_ij = (−α c̄ φ + β φ²)/ρ̄ for approaching pairs, 0 otherwise.
+    // Without a branch: a receding pair has φ = 0 and so Π = 0.
     let artificial_viscosity = |vij: Vector<D>, xij: Vector<D>, r2: f64, rho_mean: f64| -> f64 {
-        let v_dot_x = vij.dot(&xij);
-        if v_dot_x < 0.0 {
-            let phi = h * v_dot_x / (r2 + eps_h2); // Eq. 11
-            (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) / rho_mean
-        } else {
-            0.0
-        }
+        let v_dot_x = vij.dot(&xij).min(0.0);
+        let phi = h * v_dot_x / (r2 + eps_h2); // Eq. 11
+        (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) / rho_mean
     };
     let lists = &fluid.neighbours;
     let capacity = lists.capacity;
