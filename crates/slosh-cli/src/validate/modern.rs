@@ -4,8 +4,9 @@
 //! `dambreak.rs` beside the paper scheme's.
 
 use super::run::{
-    max_in_window, rect_sim_with, Context, Runner, Scheme, SineExcitation, GRAVITY, RHO,
+    max_in_window, rect_sim_with, rms, Context, Runner, Scheme, SineExcitation, GRAVITY, RHO,
 };
+use super::sloshing::running_mean;
 use super::three_d::free_run;
 use super::{
     failed_run, fmt_num, info_row, open_if_failed, plot_path, ratio_band_check, relative_check,
@@ -19,18 +20,12 @@ use slosh_theory::linear::RectangularTank;
 use slosh_theory::modal::sine_response;
 use slosh_theory::natural::rectangular_period;
 
-/// The paper's §3.1 tank and excitation (as `sloshing.rs`).
-const WIDTH: f64 = 1.0;
-const HEIGHT: f64 = 1.0;
-const DEPTH: f64 = 0.5;
-const AMPLITUDE: f64 = 0.0093;
-const OMEGA: f64 = 5.311;
-const SETTLE: f64 = 2.0;
-const DX: f64 = 0.02;
-/// Elevation sample interval (s).
-const SAMPLE: f64 = 0.005;
-/// Modes of the linear solution.
-const MODES: usize = 10;
+// The paper's §3.1 tank and excitation, shared with the paper-scheme checks.
+use super::sloshing::{
+    MODES, PAPER_AMPLITUDE as AMPLITUDE, PAPER_DEPTH as DEPTH, PAPER_DX as DX,
+    PAPER_HEIGHT as HEIGHT, PAPER_OMEGA as OMEGA, PAPER_SETTLE as SETTLE, PAPER_WIDTH as WIDTH,
+    SAMPLE,
+};
 
 /// Period tolerance of the modern scheme: 1.5 % (issue 7). Its walls hold the liquid at dx/2
 /// (no kernel-width gap), so what remains is the resolution (H/dx = 15–25) and the
@@ -360,26 +355,25 @@ fn forced(ctx: &Context) -> GroupResult {
 /// ±`half` s, divided by the largest value of that running mean. Spikes a few steps long
 /// (spurious) raise it; a physical impact pulse tens of ms long barely does.
 fn roughness(ts: &[f64], ps: &[f64], half: f64) -> f64 {
-    let n = ts.len();
-    if n < 3 {
+    if ts.len() < 3 {
         return f64::NAN;
     }
-    let (mut lo, mut hi, mut sum) = (0usize, 0usize, 0.0);
-    let mut mean = Vec::with_capacity(n);
-    for &t in ts {
-        while hi < n && ts[hi] <= t + half {
-            sum += ps[hi];
-            hi += 1;
-        }
-        while ts[lo] < t - half {
-            sum -= ps[lo];
-            lo += 1;
-        }
-        mean.push(sum / (hi - lo) as f64);
-    }
+    let mean = running_mean(ts, ps, half);
     let peak = mean.iter().fold(0.0f64, |m, &v| m.max(v));
-    let ss: f64 = ps.iter().zip(&mean).map(|(p, m)| (p - m) * (p - m)).sum();
-    (ss / n as f64).sqrt() / peak
+    let departure: Vec<f64> = ps.iter().zip(&mean).map(|(p, m)| p - m).collect();
+    rms(&departure) / peak
+}
+
+/// Indices of the load points on the roof part (none if the tank has no roof).
+fn roof_load_points(sim: &Simulation<2>) -> Vec<usize> {
+    let roof = sim.part_names().iter().position(|n| n == PART_ROOF);
+    sim.loads()
+        .parts()
+        .iter()
+        .enumerate()
+        .filter(|(_, &p)| Some(p as usize) == roof)
+        .map(|(k, _)| k)
+        .collect()
 }
 
 /// One scheme's roof-pressure history in the §3.2 case.
@@ -411,19 +405,10 @@ fn roof_run(
         "{label}: §3.2 roof case (tank 0.6 m, A = 0.0279 m), {} fluid particles",
         sim.fluid().position.len()
     ));
-    let roof = sim
-        .part_names()
-        .iter()
-        .position(|n| n == PART_ROOF)
-        .ok_or_else(|| anyhow::anyhow!("the §3.2 tank has no roof part"))? as u16;
-    let on_roof: Vec<usize> = sim
-        .loads()
-        .parts()
-        .iter()
-        .enumerate()
-        .filter(|(_, &p)| p == roof)
-        .map(|(k, _)| k)
-        .collect();
+    let on_roof = roof_load_points(&sim);
+    if on_roof.is_empty() {
+        anyhow::bail!("the §3.2 tank has no roof load points");
+    }
     let (mut ts, mut windowed, mut particle_steps) = (Vec::new(), Vec::new(), 0.0);
     let mut raw_by_step: Vec<(f64, f64)> = Vec::new();
     let mut last = None;
@@ -593,15 +578,7 @@ fn stability(ctx: &Context) -> GroupResult {
             settle: SETTLE,
         };
         let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
-        let roof = sim.part_names().iter().position(|n| n == PART_ROOF);
-        let on_roof: Vec<usize> = sim
-            .loads()
-            .parts()
-            .iter()
-            .enumerate()
-            .filter(|(_, &p)| Some(p as usize) == roof)
-            .map(|(k, _)| k)
-            .collect();
+        let on_roof = roof_load_points(&sim);
         let mut roof_p: f64 = 0.0;
         ctx.say(&format!(
             "modern scheme: §3.3 case 50 s (roof at {tank_height} m, ω₁ = {omega:.3} rad/s)"

@@ -18,19 +18,19 @@ use slosh_theory::modal::{sine_response, ModalTank};
 use slosh_theory::natural::rectangular_period;
 
 /// The paper's §3.1 tank: 1.0 m wide, 1.0 m high with a roof, 0.5 m of water.
-const PAPER_WIDTH: f64 = 1.0;
-const PAPER_HEIGHT: f64 = 1.0;
-const PAPER_DEPTH: f64 = 0.5;
+pub(crate) const PAPER_WIDTH: f64 = 1.0;
+pub(crate) const PAPER_HEIGHT: f64 = 1.0;
+pub(crate) const PAPER_DEPTH: f64 = 0.5;
 /// The paper's excitation: A = 0.0093 m, ω = 5.311 rad/s after 2 s of settling.
-const PAPER_AMPLITUDE: f64 = 0.0093;
-const PAPER_OMEGA: f64 = 5.311;
-const PAPER_SETTLE: f64 = 2.0;
+pub(crate) const PAPER_AMPLITUDE: f64 = 0.0093;
+pub(crate) const PAPER_OMEGA: f64 = 5.311;
+pub(crate) const PAPER_SETTLE: f64 = 2.0;
 /// The paper's particle spacing (m).
-const PAPER_DX: f64 = 0.02;
+pub(crate) const PAPER_DX: f64 = 0.02;
 /// Modes carried by the linear solution (higher ones quasi-static; 10 is converged to 1e-4).
-const MODES: usize = 10;
+pub(crate) const MODES: usize = 10;
 /// Interval of the elevation samples (s).
-const SAMPLE: f64 = 0.005;
+pub(crate) const SAMPLE: f64 = 0.005;
 
 /// Tolerance of the hydrostatic slope: 5 % (issue 3). The summation density of the first
 /// particle rows next to the walls and the surface reset (Eq. 20) bias particle pressures by a
@@ -811,7 +811,7 @@ pub fn period_from_crossings(crossings: &[(f64, i8)]) -> f64 {
 }
 
 /// Centred running mean of `ys` over ±`half` s (samples with finite values only).
-fn running_mean(ts: &[f64], ys: &[f64], half: f64) -> Vec<f64> {
+pub(crate) fn running_mean(ts: &[f64], ys: &[f64], half: f64) -> Vec<f64> {
     let mut out = Vec::with_capacity(ts.len());
     let (mut lo, mut hi) = (0usize, 0usize);
     let mut sum = 0.0;

@@ -3,7 +3,7 @@
 //! base shear of a cylinder against the linear (Veletsos-type rigid tank) modal solution with
 //! Housner's approximation beside it; a thin 3D box against the 2D code.
 
-use super::run::{zero_crossings, Context, GRAVITY, RHO};
+use super::run::{rms, zero_crossings, Context, GRAVITY, RHO};
 use super::sloshing::period_from_crossings;
 use super::{
     failed_run, fmt_num, info_row, plot_path, relative_check, stayed_inside, Check, GroupResult,
@@ -261,9 +261,8 @@ fn cylinder_forced_inner(ctx: &Context, group: &str) -> Result<GroupResult> {
     };
     g.checks.push(stayed_inside(group, &sim));
     let nrms = |a: &[f64], b: &[f64]| {
-        let d: f64 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
-        let r: f64 = b.iter().map(|y| y * y).sum();
-        (d / r).sqrt()
+        let d: Vec<f64> = a.iter().zip(b).map(|(x, y)| x - y).collect();
+        rms(&d) / rms(b)
     };
     let e_eta = nrms(&eta, &eta_lin);
     let e_shear = nrms(&shear, &shear_lin);
