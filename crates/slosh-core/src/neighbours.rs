@@ -97,16 +97,138 @@ impl<const D: usize> CellGrid<D> {
         self.dims
     }
 
+    /// Re-indexes the fluid particles and returns the cell order: `order[k]` is the index of
+    /// the particle that goes to slot k when the fluid arrays are sorted by cell. After the
+    /// caller has permuted its arrays by `order`, [`Self::mark_sorted`] makes the grid describe
+    /// the sorted arrays (cell c holds the slots `cell_start[c]..cell_start[c + 1]`).
+    pub fn sort_order(&mut self, fluid: &[SVector<f64, D>]) -> &[u32] {
+        self.rebuild_fluid(fluid);
+        &self.fluid_entries
+    }
+
+    /// Declares the fluid arrays sorted by the order of the last [`Self::sort_order`]: each
+    /// cell's particles are then the contiguous range of its cell start.
+    pub fn mark_sorted(&mut self) {
+        for (k, e) in self.fluid_entries.iter_mut().enumerate() {
+            *e = k as u32;
+        }
+    }
+
+    /// Start of each cell's range of fluid slots (length cells + 1; valid for sorted arrays
+    /// after [`Self::mark_sorted`]).
+    pub fn fluid_cell_starts(&self) -> &[u32] {
+        &self.fluid_cell_start
+    }
+
+    /// Largest difference of linear cell index between a cell and a cell of its search
+    /// stencil.
+    pub fn stencil_reach(&self) -> usize {
+        let mut stride = 1;
+        let mut reach = 0;
+        for k in 0..D {
+            reach += self.reach * stride;
+            stride *= self.dims[k];
+        }
+        reach
+    }
+
+    /// Splits the sorted fluid into blocks of whole cells for the two-colour pair sweeps:
+    /// `bounds` receives the first slot of each block and finally the particle count. Every
+    /// block but the last spans at least [`Self::stencil_reach`] cells, so the pairs a block
+    /// finds in the forward half stencil (see [`Self::for_each_forward_range`]) touch only
+    /// its own slots and those of the next block: blocks of equal parity never touch the
+    /// same slot. Blocks hold about `target` particles where the reach allows it.
+    pub fn colour_blocks(&self, target: usize, bounds: &mut Vec<u32>) {
+        bounds.clear();
+        let starts = &self.fluid_cell_start;
+        let n_cells = starts.len() - 1;
+        let min_cells = self.stencil_reach();
+        let n = starts[n_cells];
+        let mut c0 = 0usize;
+        bounds.push(0);
+        loop {
+            let mut c1 = (c0 + min_cells).min(n_cells);
+            while c1 < n_cells && ((starts[c1] - starts[c0]) as usize) < target {
+                c1 += 1;
+            }
+            // The rest is too short to stand alone: it joins this block.
+            if c1 + min_cells >= n_cells || starts[c1] == n {
+                bounds.push(n);
+                return;
+            }
+            bounds.push(starts[c1]);
+            c0 = c1;
+        }
+    }
+
+    /// For the particle in slot `i` at `x` of sorted arrays (after [`Self::mark_sorted`]):
+    /// calls `visit(begin, end)` for the slot ranges of the forward half of its stencil, the
+    /// slots after `i` in its own cell and the cells of higher linear index. Each pair of
+    /// particles within reach is then seen from exactly one of its two particles.
+    #[inline(always)]
+    pub fn for_each_forward_range<F: FnMut(usize, usize)>(
+        &self,
+        i: usize,
+        x: &SVector<f64, D>,
+        mut visit: F,
+    ) {
+        let starts = &self.fluid_cell_start;
+        let c = self.cell_coords(x);
+        let reach = self.reach as i64;
+        let x_lo = c[0].saturating_sub(self.reach);
+        let x_hi = (c[0] + self.reach).min(self.dims[0] - 1);
+        // The own row from the slot after i, then the rows of higher index in axes 1..D
+        // (offsets compared with the last axis most significant).
+        let mut offsets = [0i64; D];
+        let mut first = true;
+        loop {
+            let mut ok = true;
+            let mut base = 0usize;
+            for k in (1..D).rev() {
+                let ck = c[k] as i64 + offsets[k];
+                if ck < 0 || ck >= self.dims[k] as i64 {
+                    ok = false;
+                    break;
+                }
+                base = base * self.dims[k] + ck as usize;
+            }
+            if ok {
+                let row = base * self.dims[0];
+                let end = starts[row + x_hi + 1] as usize;
+                if first {
+                    visit(i + 1, end);
+                } else {
+                    visit(starts[row + x_lo] as usize, end);
+                }
+            }
+            first = false;
+            // Advance the odometer over axes 1..D.
+            let mut k = 1;
+            loop {
+                if k >= D {
+                    return;
+                }
+                offsets[k] += 1;
+                if offsets[k] <= reach {
+                    break;
+                }
+                offsets[k] = -reach;
+                k += 1;
+            }
+        }
+    }
+
     /// Integer cell coordinates of a point, clamped to the grid.
     #[inline(always)]
     fn cell_coords(&self, x: &SVector<f64, D>) -> [usize; D] {
         let mut c = [0usize; D];
         for k in 0..D {
-            let f = ((x[k] - self.origin[k]) * self.inv_cell).floor();
-            c[k] = if f <= 0.0 || f.is_nan() {
-                0
-            } else {
+            // Truncation is the floor for positive values (and cheaper than `floor`).
+            let f = (x[k] - self.origin[k]) * self.inv_cell;
+            c[k] = if f > 0.0 {
                 (f as usize).min(self.dims[k] - 1)
+            } else {
+                0 // negative, or NaN
             };
         }
         c
