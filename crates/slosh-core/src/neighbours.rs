@@ -33,10 +33,15 @@ pub trait NeighbourSearch<const D: usize>: Send + Sync {
 /// (the solver stops a run whose particles leave the box).
 #[derive(Clone, Debug)]
 pub struct CellGrid<const D: usize> {
+    /// The grid's axes: grid axis k is the space axis `axes[k]`. Grid axis 0 varies fastest
+    /// in the cell order (rows of cells along it are contiguous), the last one slowest.
+    axes: [usize; D],
+    /// Lower corner, in grid axis order.
     origin: SVector<f64, D>,
     inv_cell: f64,
     /// Cells visited on each side of a point's cell (cells are support/REACH wide).
     reach: usize,
+    /// Cells along each grid axis.
     dims: [usize; D],
     /// cell_start[c]..cell_start[c+1] is the range of `fluid_entries` in cell c.
     fluid_cell_start: Vec<u32>,
@@ -58,15 +63,38 @@ impl<const D: usize> CellGrid<D> {
         support: f64,
         walls: &[SVector<f64, D>],
     ) -> Self {
+        Self::with_slow_axis(lower, upper, support, walls, D - 1)
+    }
+
+    /// As [`Self::new`], with space axis `slow` (≥ 1) slowest in the cell order instead of
+    /// the last axis. The pair sweeps of the solver cut the sorted fluid into slabs across
+    /// the slowest axis, each at least two cells thick: the axis of the largest extent gives
+    /// the most slabs to share among threads. The x axis stays the fastest.
+    pub fn with_slow_axis(
+        lower: SVector<f64, D>,
+        upper: SVector<f64, D>,
+        support: f64,
+        walls: &[SVector<f64, D>],
+        slow: usize,
+    ) -> Self {
         let reach = 2;
         let cell_size = support / reach as f64;
+        let slow = if (1..D).contains(&slow) { slow } else { D - 1 };
+        let mut axes = [0usize; D];
+        for (a, axis) in (0..D).filter(|&a| a != slow).chain([slow]).enumerate() {
+            axes[a] = axis;
+        }
         let mut dims = [1usize; D];
+        let mut origin = lower;
         for (k, dim) in dims.iter_mut().enumerate() {
-            *dim = (((upper[k] - lower[k]) / cell_size).ceil() as usize).max(1) + 1;
+            let a = axes[k];
+            origin[k] = lower[a];
+            *dim = (((upper[a] - lower[a]) / cell_size).ceil() as usize).max(1) + 1;
         }
         let n_cells: usize = dims.iter().product();
         let mut grid = CellGrid {
-            origin: lower,
+            axes,
+            origin,
             inv_cell: 1.0 / cell_size,
             reach,
             dims,
@@ -92,9 +120,13 @@ impl<const D: usize> CellGrid<D> {
         }
     }
 
-    /// Number of cells along each axis.
+    /// Number of cells along each space axis.
     pub fn dims(&self) -> [usize; D] {
-        self.dims
+        let mut dims = [0; D];
+        for k in 0..D {
+            dims[self.axes[k]] = self.dims[k];
+        }
+        dims
     }
 
     /// Re-indexes the fluid particles and returns the cell order: `order[k]` is the index of
@@ -224,7 +256,7 @@ impl<const D: usize> CellGrid<D> {
         let mut c = [0usize; D];
         for k in 0..D {
             // Truncation is the floor for positive values (and cheaper than `floor`).
-            let f = (x[k] - self.origin[k]) * self.inv_cell;
+            let f = (x[self.axes[k]] - self.origin[k]) * self.inv_cell;
             c[k] = if f > 0.0 {
                 (f as usize).min(self.dims[k] - 1)
             } else {
@@ -474,12 +506,16 @@ mod tests {
         let hi = SVector::<f64, D>::from_element(1.1);
         let mut grid = CellGrid::new(lo, hi, radius, &points);
         grid.rebuild_fluid(&points);
+        // The same grid with the y axis slowest in the cell order.
+        let mut grid_y = CellGrid::with_slow_axis(lo, hi, radius, &points, 1);
+        grid_y.rebuild_fluid(&points);
         let mut tree = KdTreeSearch::new(radius, &points);
         tree.rebuild_fluid(&points);
         for x in queries {
             let expected = brute(&points, x, radius);
             for fluid in [true, false] {
                 assert_eq!(within(&grid, &points, x, radius, fluid), expected);
+                assert_eq!(within(&grid_y, &points, x, radius, fluid), expected);
                 assert_eq!(within(&tree, &points, x, radius, fluid), expected);
             }
         }

@@ -388,12 +388,19 @@ impl<const D: usize> Simulation<D> {
             area: setup.wall_area,
             layer: setup.wall_layer,
         };
+        // The sweeps cut the fluid into slabs across the grid's slowest axis: the axis of
+        // the tank's largest extent (besides x, the rows), the last one on ties.
+        let slow_axis = (1..D)
+            .rev()
+            .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])).then(a.cmp(&b)))
+            .unwrap_or(D - 1);
         let search = match params.neighbour_backend {
-            NeighbourBackend::CellGrid => Search::Grid(CellGrid::new(
+            NeighbourBackend::CellGrid => Search::Grid(CellGrid::with_slow_axis(
                 domain_min,
                 domain_max,
                 kernel.support(),
                 &walls.position,
+                slow_axis,
             )),
             NeighbourBackend::KdTree => {
                 Search::KdTree(KdTreeSearch::new(kernel.support(), &walls.position))
@@ -1012,7 +1019,7 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
     fluid: &mut Fluid<D>,
     walls: &mut Walls<D>,
     next_density: &mut Vec<f64>,
-    next_wall_density: &mut Vec<f64>,
+    next_wall_density: &mut [f64],
 ) {
     let kernel = c.kernel;
     let m = c.mass;
@@ -1462,8 +1469,8 @@ fn density_pass_sorted<const D: usize>(
                 let mut batch_r2 = [0.0f64; BATCH];
                 let mut batched = 0usize;
                 grid.for_each_forward_range(i, &xi, |j0, j1| {
-                    for j in j0..j1 {
-                        let r2 = (xi - pos[j]).norm_squared();
+                    for (j, xj) in (j0..j1).zip(&pos[j0..j1]) {
+                        let r2 = (xi - xj).norm_squared();
                         batch_j[batched] = j as u32;
                         batch_r2[batched] = r2;
                         batched += (r2 < c.support_sq) as usize;
