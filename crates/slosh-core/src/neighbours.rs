@@ -521,6 +521,53 @@ mod tests {
         }
     }
 
+    /// On cell-sorted points the forward ranges find every pair within the radius exactly
+    /// once (from its lower slot), and the pairs found from a colour block stay within that
+    /// block and the next.
+    #[test]
+    fn forward_ranges_find_each_pair_once() {
+        let radius = 0.12;
+        let lo = SVector::<f64, 3>::from_element(-0.1);
+        let hi = SVector::<f64, 3>::from_element(1.1);
+        let points = random_points::<3>(4000, 1.0, 23);
+        let mut grid = CellGrid::with_slow_axis(lo, hi, radius, &[], 1);
+        let order = grid.sort_order(&points).to_vec();
+        let sorted: Vec<SVector<f64, 3>> = order.iter().map(|&i| points[i as usize]).collect();
+        grid.mark_sorted();
+        let mut bounds = Vec::new();
+        grid.colour_blocks(300, &mut bounds);
+        assert!(bounds.len() > 3, "too few blocks: {bounds:?}");
+        let mut found = 0usize;
+        for b in 0..bounds.len() - 1 {
+            let limit = bounds
+                .get(b + 2)
+                .copied()
+                .unwrap_or(bounds[bounds.len() - 1]) as usize;
+            for i in bounds[b] as usize..bounds[b + 1] as usize {
+                grid.for_each_forward_range(i, &sorted[i], |j0, j1| {
+                    assert!(
+                        j0 > i && j1 <= limit,
+                        "slot {i}: range {j0}..{j1}, limit {limit}"
+                    );
+                    for j in j0..j1 {
+                        if (sorted[i] - sorted[j]).norm_squared() < radius * radius {
+                            found += 1;
+                        }
+                    }
+                });
+            }
+        }
+        let mut expected = 0usize;
+        for i in 0..sorted.len() {
+            for j in i + 1..sorted.len() {
+                if (sorted[i] - sorted[j]).norm_squared() < radius * radius {
+                    expected += 1;
+                }
+            }
+        }
+        assert_eq!(found, expected);
+    }
+
     #[test]
     fn grid_and_kdtree_match_brute_force() {
         let radius = 0.052;
