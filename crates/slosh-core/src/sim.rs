@@ -471,6 +471,8 @@ impl<const D: usize> Simulation<D> {
         if sim.sorted_every_step {
             sim.wall_scatter = WallScatter::new(n_wall);
             sim.sort_and_index();
+        } else if sim.modern.is_some() && matches!(sim.search, Search::Grid(_)) {
+            sim.sort_all_and_index();
         } else {
             sim.sort_by_cell();
             sim.rebuild_search();
