@@ -171,3 +171,31 @@ fn modern_backends_agree() {
         }
     }
 }
+
+/// Exploration: throughput of the modern step in 3D (≈60k fluid particles), one thread.
+#[test]
+#[ignore]
+fn explore_modern_throughput_3d() {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        let setup = box_tank::<3>([0.6, 0.6, 0.4], 0.3, 0.0, 0.012);
+        let n = setup.fluid_positions.len() + setup.wall_positions.len();
+        let mut sim = Simulation::new(setup, SphParams::modern()).unwrap();
+        for _ in 0..3 {
+            sim.step(Vector::<3>::zeros()).unwrap();
+        }
+        let t0 = std::time::Instant::now();
+        let steps = 10;
+        for _ in 0..steps {
+            sim.step(Vector::<3>::zeros()).unwrap();
+        }
+        let el = t0.elapsed().as_secs_f64();
+        eprintln!(
+            "modern 3D: {n} particles, {:.3e} particle-steps/s",
+            steps as f64 * n as f64 / el
+        );
+    });
+}
