@@ -6,7 +6,8 @@
 //! when [`SphParams::uses_modern_step`] is true, so the paper path stays bit-for-bit as it was.
 //!
 //! Step order here:
-//! 1. re-sort (every few steps);
+//! 1. re-sort (every few steps; with the cell grid every step, at step 3, for the pair
+//!    sweeps of the paper step that evaluate each fluid pair once);
 //! 2. symplectic: time step from the state at n (v^n, a^{n−½}), predictor to n+½;
 //! 3. re-index; density stage: summation (paper Eq. 19–20) or nothing (continuity: the
 //!    density is integrated), the strain rate of Eq. 5 when μ > 0, the hydrostatic density of

@@ -1,10 +1,19 @@
 //! The simulation state and the time step, written once for 2D and 3D.
 //!
 //! One step (paper §2):
-//! 1. re-index (and every few steps re-sort) the fluid particles;
+//! 1. sort the fluid arrays by cell and re-index them (k-d tree backend: re-index every step,
+//!    re-sort every few steps);
 //! 2. density pass: summation density (Eq. 19) of fluid and wall particles, the kernel sum of
 //!    the free-surface test (Eq. 20) and the strain rate V of Eq. 5; then the EOS (Eq. 18);
-//! 3. force pass: the symmetric momentum equation with artificial viscosity (Eq. 8–16);
+//! 3. force pass: the symmetric momentum equation with artificial viscosity (Eq. 8–16).
+//!
+//!    With the cell grid both passes evaluate each fluid pair once and add it to both
+//!    particles (the pair terms are symmetric or antisymmetric in i and j): the sorted fluid
+//!    is cut into blocks of whole cells at least one stencil reach long, each particle pairs
+//!    with the particles of the forward half of its stencil, and the even blocks run in
+//!    parallel before the odd ones, so no two threads write the same particle
+//!    (`colour_sweep`). The density pass keeps the pairs it found (forward fluid neighbours
+//!    and all wall neighbours) for the force pass;
 //! 4. time step from the CFL bounds (or the fixed dt), leap-frog update (Eq. 21–22);
 //! 5. wall pressures for loads (§2.6) and their time window.
 //!
@@ -1316,7 +1325,7 @@ fn force_pass<const D: usize, S: NeighbourSearch<D>>(
         });
 }
 
-/// A slice written through by the blocks of one colour of a pair sweep ([`colour_sweep`]),
+/// A slice written through by the blocks of one colour of a pair sweep (`colour_sweep`),
 /// which touch disjoint slots.
 struct SharedSlice<T> {
     ptr: *mut T,
