@@ -233,6 +233,8 @@ pub struct Simulation<const D: usize> {
     loads: LoadEvaluator<D>,
     // Scratch buffers, allocated once.
     scratch_vec: Vec<Vector<D>>,
+    /// A second vector scratch for the one-loop sort of the paper step (empty otherwise).
+    scratch_vec2: Vec<Vector<D>>,
     scratch_f64: Vec<f64>,
     scratch_tensor: Vec<Tensor<D>>,
     scratch_u32: Vec<u32>,
@@ -457,6 +459,7 @@ impl<const D: usize> Simulation<D> {
             phase_times: PhaseTimes::default(),
             loads,
             scratch_vec: vec![Vector::<D>::zeros(); n],
+            scratch_vec2: Vec::new(),
             scratch_f64: vec![0.0; n],
             scratch_tensor: vec![Tensor::<D>::zeros(); n],
             scratch_u32: vec![0; n],
@@ -479,6 +482,7 @@ impl<const D: usize> Simulation<D> {
         }
         if sim.sorted_every_step {
             sim.wall_scatter = WallScatter::new(n_wall);
+            sim.scratch_vec2 = vec![Vector::<D>::zeros(); n];
             sim.sort_and_index();
         } else if sim.modern.is_some() && matches!(sim.search, Search::Grid(_)) {
             sim.sort_all_and_index();
@@ -652,18 +656,55 @@ impl<const D: usize> Simulation<D> {
 
     /// Sorts the fluid arrays by cell with the search grid (the arrays the paper step reads
     /// before writing: position, velocity, half-step velocity, 1/ρ and the id; the rest is
-    /// recomputed from them), re-indexes the grid and splits the fluid into sweep blocks.
+    /// recomputed from them), re-indexes the grid, zeroes the sums of the density sweep and
+    /// splits the fluid into sweep blocks.
     fn sort_and_index(&mut self) {
         let Search::Grid(grid) = &mut self.search else {
             return;
         };
         let order = grid.sort_order(&self.fluid.position);
         let f = &mut self.fluid;
-        permute_par(&mut f.position, order, &mut self.scratch_vec);
-        permute_par(&mut f.velocity, order, &mut self.scratch_vec);
-        permute_par(&mut f.velocity_half, order, &mut self.scratch_vec);
-        permute_par(&mut f.inverse_density, order, &mut self.scratch_f64);
-        permute_par(&mut f.id, order, &mut self.scratch_u32);
+        // One parallel loop gathers the arrays into scratch buffers (the acceleration, which
+        // the force pass recomputes, serves as the velocity's) and zeroes the accumulators of
+        // the density sweep.
+        {
+            let (x, v, vh, inv, id) = (
+                &f.position,
+                &f.velocity,
+                &f.velocity_half,
+                &f.inverse_density,
+                &f.id,
+            );
+            self.scratch_vec
+                .par_iter_mut()
+                .zip(f.acceleration.par_iter_mut())
+                .zip(self.scratch_vec2.par_iter_mut())
+                .zip(self.scratch_f64.par_iter_mut())
+                .zip(self.scratch_u32.par_iter_mut())
+                .zip(order.par_iter())
+                .zip(self.next_density.par_iter_mut())
+                .zip(f.kernel_sum.par_iter_mut())
+                .zip(f.strain_rate.par_iter_mut())
+                .with_min_len(PAR_CHUNK)
+                .for_each(
+                    |((((((((x_new, v_new), vh_new), inv_new), id_new), &o), rho), ksum), g)| {
+                        let o = o as usize;
+                        *x_new = x[o];
+                        *v_new = v[o];
+                        *vh_new = vh[o];
+                        *inv_new = inv[o];
+                        *id_new = id[o];
+                        *rho = 0.0;
+                        *ksum = 0.0;
+                        *g = Tensor::<D>::zeros();
+                    },
+                );
+        }
+        std::mem::swap(&mut f.position, &mut self.scratch_vec);
+        std::mem::swap(&mut f.velocity, &mut f.acceleration);
+        std::mem::swap(&mut f.velocity_half, &mut self.scratch_vec2);
+        std::mem::swap(&mut f.inverse_density, &mut self.scratch_f64);
+        std::mem::swap(&mut f.id, &mut self.scratch_u32);
         grid.mark_sorted();
         // Blocks of ≈ n/32 particles whatever the thread count, so the order of the sums (and
         // the result) does not depend on it.
@@ -839,7 +880,9 @@ impl<const D: usize> Simulation<D> {
     /// Bytes of the buffers of the pair sweeps of the paper step (fluid → wall density sums
     /// and block bounds), beside the arrays of [`Fluid`] and [`Walls`].
     pub fn sweep_buffer_bytes(&self) -> usize {
-        self.wall_scatter.heap_bytes() + self.blocks.capacity() * 4
+        self.wall_scatter.heap_bytes()
+            + self.blocks.capacity() * 4
+            + self.scratch_vec2.capacity() * size_of::<Vector<D>>()
     }
     /// The wall particles.
     pub fn walls(&self) -> &Walls<D> {
@@ -1142,7 +1185,7 @@ fn wall_density_and_eos<const D: usize, S: NeighbourSearch<D>>(
             (rho_sum, kernel_sum, nearest.1)
         });
     }
-    eos_pass(c, fluid, walls, next_density, next_wall_density);
+    eos_pass(c, fluid, walls, next_density, next_wall_density, false);
 }
 
 /// Wall densities from `sums(w) = (Σ m W, Σ (m/ρ) W, nearest fluid particle)` over the fluid
@@ -1172,13 +1215,15 @@ fn wall_densities<F: Fn(usize) -> (f64, f64, u32) + Sync>(
 }
 
 /// The free-surface reset (Eq. 20) and the EOS (Eq. 18) of fluid and wall particles from
-/// the density sums.
+/// the density sums; with `strain_from_gradient` the fluid's `strain_rate` holds the velocity
+/// gradient G and is turned into V here.
 fn eos_pass<const D: usize>(
     c: &PassConstants,
     fluid: &mut Fluid<D>,
     walls: &mut Walls<D>,
     next_density: &[f64],
     next_wall_density: &[f64],
+    strain_from_gradient: bool,
 ) {
     // Eq. 20: free-surface reset, then Eq. 18: pressure.
     fluid
@@ -1188,8 +1233,9 @@ fn eos_pass<const D: usize>(
         .zip(next_density.par_iter())
         .zip(fluid.kernel_sum.par_iter())
         .zip(fluid.pressure.par_iter_mut())
+        .zip(fluid.strain_rate.par_iter_mut())
         .with_min_len(PAR_CHUNK)
-        .for_each(|((((rho, inv), &rho_new), &ksum), p)| {
+        .for_each(|(((((rho, inv), &rho_new), &ksum), p), g)| {
             *rho = if ksum < c.free_surface_threshold {
                 c.rest_density
             } else {
@@ -1197,6 +1243,15 @@ fn eos_pass<const D: usize>(
             };
             *inv = 1.0 / *rho;
             *p = c.pressure(*rho);
+            if strain_from_gradient {
+                // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
+                let trace = g.trace();
+                let mut v_tensor = *g + g.transpose();
+                for k in 0..D {
+                    v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
+                }
+                *g = v_tensor;
+            }
         });
     walls
         .density
@@ -1404,17 +1459,8 @@ fn density_pass_sorted<const D: usize>(
     let m = c.mass;
     let w0 = kernel.value(0.0);
     let n_wall = walls.position.len();
-    scatter.clear();
-    next_density
-        .par_iter_mut()
-        .zip(fluid.kernel_sum.par_iter_mut())
-        .zip(fluid.strain_rate.par_iter_mut())
-        .with_min_len(PAR_CHUNK)
-        .for_each(|((rho, ksum), g)| {
-            *rho = 0.0;
-            *ksum = 0.0;
-            *g = Tensor::<D>::zeros();
-        });
+    // The fluid sums start at zero (zeroed by `sort_and_index`), the wall sums too (zeroed
+    // when read, below).
     {
         let pos = &fluid.position;
         let vel = &fluid.velocity;
@@ -1534,32 +1580,29 @@ fn density_pass_sorted<const D: usize>(
             }
         });
     }
-    // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
-    fluid
-        .strain_rate
-        .par_iter_mut()
-        .with_min_len(PAR_CHUNK)
-        .for_each(|g| {
-            let trace = g.trace();
-            let mut v_tensor = *g + g.transpose();
-            for k in 0..D {
-                v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
-            }
-            *g = v_tensor;
-        });
     {
         let wall_pos = &walls.position;
         let wall_inv_rho = &walls.inverse_density;
-        let scatter = &*scatter;
+        let set_rho = SharedSlice::new(&mut scatter.rho);
+        let set_ksum = SharedSlice::new(&mut scatter.kernel_sum);
+        let set_near_r2 = SharedSlice::new(&mut scatter.nearest_r2);
+        let set_near = SharedSlice::new(&mut scatter.nearest);
         wall_densities(c, next_wall_density, &mut walls.nearest_fluid, |w_i| {
-            // Fluid neighbours: the sets of the sweep, in a fixed order.
+            // Fluid neighbours: the sets of the sweep, in a fixed order, left zeroed for the
+            // next step.
             let (mut rho_sum, mut kernel_sum) = (0.0, 0.0);
             let mut nearest = (f64::INFINITY, u32::MAX);
             for s in 0..WallScatter::SETS {
                 let k = s * n_wall + w_i;
-                rho_sum += scatter.rho[k];
-                kernel_sum += scatter.kernel_sum[k];
-                let candidate = (scatter.nearest_r2[k], scatter.nearest[k]);
+                // SAFETY: entry k belongs to wall particle w_i, visited once.
+                let candidate = unsafe {
+                    rho_sum += std::mem::take(set_rho.at(k));
+                    kernel_sum += std::mem::take(set_ksum.at(k));
+                    (
+                        std::mem::replace(set_near_r2.at(k), f64::INFINITY),
+                        std::mem::replace(set_near.at(k), u32::MAX),
+                    )
+                };
                 if candidate.0 < nearest.0 || (candidate.0 == nearest.0 && candidate.1 < nearest.1)
                 {
                     nearest = candidate;
@@ -1578,7 +1621,7 @@ fn density_pass_sorted<const D: usize>(
             (rho_sum, kernel_sum, nearest.1)
         });
     }
-    eos_pass(c, fluid, walls, next_density, next_wall_density);
+    eos_pass(c, fluid, walls, next_density, next_wall_density, true);
 }
 
 /// The fluid particles' shares of the wall particles' density sums (Eq. 19 at walls),
@@ -1609,21 +1652,6 @@ impl WallScatter {
             nearest_r2: vec![f64::INFINITY; len],
             nearest: vec![u32::MAX; len],
         }
-    }
-
-    fn clear(&mut self) {
-        self.rho
-            .par_iter_mut()
-            .zip(self.kernel_sum.par_iter_mut())
-            .zip(self.nearest_r2.par_iter_mut())
-            .zip(self.nearest.par_iter_mut())
-            .with_min_len(4 * PAR_CHUNK)
-            .for_each(|(((r, k), d), n)| {
-                *r = 0.0;
-                *k = 0.0;
-                *d = f64::INFINITY;
-                *n = u32::MAX;
-            });
     }
 
     /// Bytes held.
