@@ -4,6 +4,7 @@
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::SVector;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Which neighbour-search implementation the solver uses.
@@ -141,9 +142,11 @@ impl<const D: usize> CellGrid<D> {
     /// Declares the fluid arrays sorted by the order of the last [`Self::sort_order`]: each
     /// cell's particles are then the contiguous range of its cell start.
     pub fn mark_sorted(&mut self) {
-        for (k, e) in self.fluid_entries.iter_mut().enumerate() {
-            *e = k as u32;
-        }
+        self.fluid_entries
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(4096)
+            .for_each(|(k, e)| *e = k as u32);
     }
 
     /// Start of each cell's range of fluid slots (length cells + 1; valid for sorted arrays
@@ -287,10 +290,14 @@ impl<const D: usize> CellGrid<D> {
         entries: &mut [u32],
     ) {
         start.iter_mut().for_each(|s| *s = 0);
-        for (i, p) in points.iter().enumerate() {
-            let c = self.cell_index(p);
-            cell_of[i] = c as u32;
-            start[c + 1] += 1;
+        // The cells in parallel (the floating-point half of the work), the counts serially.
+        cell_of
+            .par_iter_mut()
+            .zip(points.par_iter())
+            .with_min_len(4096)
+            .for_each(|(c, p)| *c = self.cell_index(p) as u32);
+        for &c in cell_of.iter() {
+            start[c as usize + 1] += 1;
         }
         for c in 0..start.len() - 1 {
             start[c + 1] += start[c];
