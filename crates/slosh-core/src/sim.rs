@@ -1,10 +1,19 @@
 //! The simulation state and the time step, written once for 2D and 3D.
 //!
 //! One step (paper §2):
-//! 1. re-index (and every few steps re-sort) the fluid particles;
+//! 1. sort the fluid arrays by cell and re-index them (k-d tree backend: re-index every step,
+//!    re-sort every few steps);
 //! 2. density pass: summation density (Eq. 19) of fluid and wall particles, the kernel sum of
 //!    the free-surface test (Eq. 20) and the strain rate V of Eq. 5; then the EOS (Eq. 18);
-//! 3. force pass: the symmetric momentum equation with artificial viscosity (Eq. 8–16);
+//! 3. force pass: the symmetric momentum equation with artificial viscosity (Eq. 8–16).
+//!
+//!    With the cell grid both passes evaluate each fluid pair once and add it to both
+//!    particles (the pair terms are symmetric or antisymmetric in i and j): the sorted fluid
+//!    is cut into blocks of whole cells at least one stencil reach long, each particle pairs
+//!    with the particles of the forward half of its stencil, and the even blocks run in
+//!    parallel before the odd ones, so no two threads write the same particle
+//!    (`colour_sweep`). The density pass keeps the pairs it found (forward fluid neighbours
+//!    and all wall neighbours) for the force pass;
 //! 4. time step from the CFL bounds (or the fixed dt), leap-frog update (Eq. 21–22);
 //! 5. wall pressures for loads (§2.6) and their time window.
 //!
@@ -226,6 +235,8 @@ pub struct Simulation<const D: usize> {
     loads: LoadEvaluator<D>,
     // Scratch buffers, allocated once.
     scratch_vec: Vec<Vector<D>>,
+    /// A second vector scratch for the one-loop sort of the paper step (empty otherwise).
+    scratch_vec2: Vec<Vector<D>>,
     scratch_f64: Vec<f64>,
     scratch_tensor: Vec<Tensor<D>>,
     scratch_u32: Vec<u32>,
@@ -391,12 +402,19 @@ impl<const D: usize> Simulation<D> {
             area: setup.wall_area,
             layer: setup.wall_layer,
         };
+        // The sweeps cut the fluid into slabs across the grid's slowest axis: the axis of
+        // the tank's largest extent (besides x, the rows), the last one on ties.
+        let slow_axis = (1..D)
+            .rev()
+            .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])).then(a.cmp(&b)))
+            .unwrap_or(D - 1);
         let search = match params.neighbour_backend {
-            NeighbourBackend::CellGrid => Search::Grid(CellGrid::new(
+            NeighbourBackend::CellGrid => Search::Grid(CellGrid::with_slow_axis(
                 domain_min,
                 domain_max,
                 kernel.support(),
                 &walls.position,
+                slow_axis,
             )),
             NeighbourBackend::KdTree => {
                 Search::KdTree(KdTreeSearch::new(kernel.support(), &walls.position))
@@ -444,6 +462,7 @@ impl<const D: usize> Simulation<D> {
             phase_times: PhaseTimes::default(),
             loads,
             scratch_vec: vec![Vector::<D>::zeros(); n],
+            scratch_vec2: Vec::new(),
             scratch_f64: vec![0.0; n],
             scratch_tensor: vec![Tensor::<D>::zeros(); n],
             scratch_u32: vec![0; n],
@@ -466,7 +485,10 @@ impl<const D: usize> Simulation<D> {
         }
         if sim.sorted_every_step {
             sim.wall_scatter = WallScatter::new(n_wall);
+            sim.scratch_vec2 = vec![Vector::<D>::zeros(); n];
             sim.sort_and_index();
+        } else if sim.modern.is_some() && matches!(sim.search, Search::Grid(_)) {
+            sim.sort_all_and_index();
         } else {
             sim.sort_by_cell();
             sim.rebuild_search();
@@ -637,18 +659,55 @@ impl<const D: usize> Simulation<D> {
 
     /// Sorts the fluid arrays by cell with the search grid (the arrays the paper step reads
     /// before writing: position, velocity, half-step velocity, 1/ρ and the id; the rest is
-    /// recomputed from them), re-indexes the grid and splits the fluid into sweep blocks.
+    /// recomputed from them), re-indexes the grid, zeroes the sums of the density sweep and
+    /// splits the fluid into sweep blocks.
     fn sort_and_index(&mut self) {
         let Search::Grid(grid) = &mut self.search else {
             return;
         };
         let order = grid.sort_order(&self.fluid.position);
         let f = &mut self.fluid;
-        permute_par(&mut f.position, order, &mut self.scratch_vec);
-        permute_par(&mut f.velocity, order, &mut self.scratch_vec);
-        permute_par(&mut f.velocity_half, order, &mut self.scratch_vec);
-        permute_par(&mut f.inverse_density, order, &mut self.scratch_f64);
-        permute_par(&mut f.id, order, &mut self.scratch_u32);
+        // One parallel loop gathers the arrays into scratch buffers (the acceleration, which
+        // the force pass recomputes, serves as the velocity's) and zeroes the accumulators of
+        // the density sweep.
+        {
+            let (x, v, vh, inv, id) = (
+                &f.position,
+                &f.velocity,
+                &f.velocity_half,
+                &f.inverse_density,
+                &f.id,
+            );
+            self.scratch_vec
+                .par_iter_mut()
+                .zip(f.acceleration.par_iter_mut())
+                .zip(self.scratch_vec2.par_iter_mut())
+                .zip(self.scratch_f64.par_iter_mut())
+                .zip(self.scratch_u32.par_iter_mut())
+                .zip(order.par_iter())
+                .zip(self.next_density.par_iter_mut())
+                .zip(f.kernel_sum.par_iter_mut())
+                .zip(f.strain_rate.par_iter_mut())
+                .with_min_len(PAR_CHUNK)
+                .for_each(
+                    |((((((((x_new, v_new), vh_new), inv_new), id_new), &o), rho), ksum), g)| {
+                        let o = o as usize;
+                        *x_new = x[o];
+                        *v_new = v[o];
+                        *vh_new = vh[o];
+                        *inv_new = inv[o];
+                        *id_new = id[o];
+                        *rho = 0.0;
+                        *ksum = 0.0;
+                        *g = Tensor::<D>::zeros();
+                    },
+                );
+        }
+        std::mem::swap(&mut f.position, &mut self.scratch_vec);
+        std::mem::swap(&mut f.velocity, &mut f.acceleration);
+        std::mem::swap(&mut f.velocity_half, &mut self.scratch_vec2);
+        std::mem::swap(&mut f.inverse_density, &mut self.scratch_f64);
+        std::mem::swap(&mut f.id, &mut self.scratch_u32);
         grid.mark_sorted();
         // Blocks of ≈ n/32 particles whatever the thread count, so the order of the sums (and
         // the result) does not depend on it.
@@ -824,7 +883,9 @@ impl<const D: usize> Simulation<D> {
     /// Bytes of the buffers of the pair sweeps of the paper step (fluid → wall density sums
     /// and block bounds), beside the arrays of [`Fluid`] and [`Walls`].
     pub fn sweep_buffer_bytes(&self) -> usize {
-        self.wall_scatter.heap_bytes() + self.blocks.capacity() * 4
+        self.wall_scatter.heap_bytes()
+            + self.blocks.capacity() * 4
+            + self.scratch_vec2.capacity() * size_of::<Vector<D>>()
     }
     /// The wall particles.
     pub fn walls(&self) -> &Walls<D> {
@@ -1015,7 +1076,7 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
     fluid: &mut Fluid<D>,
     walls: &mut Walls<D>,
     next_density: &mut Vec<f64>,
-    next_wall_density: &mut Vec<f64>,
+    next_wall_density: &mut [f64],
 ) {
     let kernel = c.kernel;
     let m = c.mass;
@@ -1127,7 +1188,7 @@ fn wall_density_and_eos<const D: usize, S: NeighbourSearch<D>>(
             (rho_sum, kernel_sum, nearest.1)
         });
     }
-    eos_pass(c, fluid, walls, next_density, next_wall_density);
+    eos_pass(c, fluid, walls, next_density, next_wall_density, false);
 }
 
 /// Wall densities from `sums(w) = (Σ m W, Σ (m/ρ) W, nearest fluid particle)` over the fluid
@@ -1157,13 +1218,15 @@ fn wall_densities<F: Fn(usize) -> (f64, f64, u32) + Sync>(
 }
 
 /// The free-surface reset (Eq. 20) and the EOS (Eq. 18) of fluid and wall particles from
-/// the density sums.
+/// the density sums; with `strain_from_gradient` the fluid's `strain_rate` holds the velocity
+/// gradient G and is turned into V here.
 fn eos_pass<const D: usize>(
     c: &PassConstants,
     fluid: &mut Fluid<D>,
     walls: &mut Walls<D>,
     next_density: &[f64],
     next_wall_density: &[f64],
+    strain_from_gradient: bool,
 ) {
     // Eq. 20: free-surface reset, then Eq. 18: pressure.
     fluid
@@ -1173,8 +1236,9 @@ fn eos_pass<const D: usize>(
         .zip(next_density.par_iter())
         .zip(fluid.kernel_sum.par_iter())
         .zip(fluid.pressure.par_iter_mut())
+        .zip(fluid.strain_rate.par_iter_mut())
         .with_min_len(PAR_CHUNK)
-        .for_each(|((((rho, inv), &rho_new), &ksum), p)| {
+        .for_each(|(((((rho, inv), &rho_new), &ksum), p), g)| {
             *rho = if ksum < c.free_surface_threshold {
                 c.rest_density
             } else {
@@ -1182,6 +1246,15 @@ fn eos_pass<const D: usize>(
             };
             *inv = 1.0 / *rho;
             *p = c.pressure(*rho);
+            if strain_from_gradient {
+                // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
+                let trace = g.trace();
+                let mut v_tensor = *g + g.transpose();
+                for k in 0..D {
+                    v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
+                }
+                *g = v_tensor;
+            }
         });
     walls
         .density
@@ -1310,7 +1383,7 @@ fn force_pass<const D: usize, S: NeighbourSearch<D>>(
         });
 }
 
-/// A slice written through by the blocks of one colour of a pair sweep ([`colour_sweep`]),
+/// A slice written through by the blocks of one colour of a pair sweep (`colour_sweep`),
 /// which touch disjoint slots.
 struct SharedSlice<T> {
     ptr: *mut T,
@@ -1389,17 +1462,8 @@ fn density_pass_sorted<const D: usize>(
     let m = c.mass;
     let w0 = kernel.value(0.0);
     let n_wall = walls.position.len();
-    scatter.clear();
-    next_density
-        .par_iter_mut()
-        .zip(fluid.kernel_sum.par_iter_mut())
-        .zip(fluid.strain_rate.par_iter_mut())
-        .with_min_len(PAR_CHUNK)
-        .for_each(|((rho, ksum), g)| {
-            *rho = 0.0;
-            *ksum = 0.0;
-            *g = Tensor::<D>::zeros();
-        });
+    // The fluid sums start at zero (zeroed by `sort_and_index`), the wall sums too (zeroed
+    // when read, below).
     {
         let pos = &fluid.position;
         let vel = &fluid.velocity;
@@ -1465,8 +1529,8 @@ fn density_pass_sorted<const D: usize>(
                 let mut batch_r2 = [0.0f64; BATCH];
                 let mut batched = 0usize;
                 grid.for_each_forward_range(i, &xi, |j0, j1| {
-                    for j in j0..j1 {
-                        let r2 = (xi - pos[j]).norm_squared();
+                    for (j, xj) in (j0..j1).zip(&pos[j0..j1]) {
+                        let r2 = (xi - xj).norm_squared();
                         batch_j[batched] = j as u32;
                         batch_r2[batched] = r2;
                         batched += (r2 < c.support_sq) as usize;
@@ -1519,32 +1583,29 @@ fn density_pass_sorted<const D: usize>(
             }
         });
     }
-    // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
-    fluid
-        .strain_rate
-        .par_iter_mut()
-        .with_min_len(PAR_CHUNK)
-        .for_each(|g| {
-            let trace = g.trace();
-            let mut v_tensor = *g + g.transpose();
-            for k in 0..D {
-                v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
-            }
-            *g = v_tensor;
-        });
     {
         let wall_pos = &walls.position;
         let wall_inv_rho = &walls.inverse_density;
-        let scatter = &*scatter;
+        let set_rho = SharedSlice::new(&mut scatter.rho);
+        let set_ksum = SharedSlice::new(&mut scatter.kernel_sum);
+        let set_near_r2 = SharedSlice::new(&mut scatter.nearest_r2);
+        let set_near = SharedSlice::new(&mut scatter.nearest);
         wall_densities(c, next_wall_density, &mut walls.nearest_fluid, |w_i| {
-            // Fluid neighbours: the sets of the sweep, in a fixed order.
+            // Fluid neighbours: the sets of the sweep, in a fixed order, left zeroed for the
+            // next step.
             let (mut rho_sum, mut kernel_sum) = (0.0, 0.0);
             let mut nearest = (f64::INFINITY, u32::MAX);
             for s in 0..WallScatter::SETS {
                 let k = s * n_wall + w_i;
-                rho_sum += scatter.rho[k];
-                kernel_sum += scatter.kernel_sum[k];
-                let candidate = (scatter.nearest_r2[k], scatter.nearest[k]);
+                // SAFETY: entry k belongs to wall particle w_i, visited once.
+                let candidate = unsafe {
+                    rho_sum += std::mem::take(set_rho.at(k));
+                    kernel_sum += std::mem::take(set_ksum.at(k));
+                    (
+                        std::mem::replace(set_near_r2.at(k), f64::INFINITY),
+                        std::mem::replace(set_near.at(k), u32::MAX),
+                    )
+                };
                 if candidate.0 < nearest.0 || (candidate.0 == nearest.0 && candidate.1 < nearest.1)
                 {
                     nearest = candidate;
@@ -1563,7 +1624,7 @@ fn density_pass_sorted<const D: usize>(
             (rho_sum, kernel_sum, nearest.1)
         });
     }
-    eos_pass(c, fluid, walls, next_density, next_wall_density);
+    eos_pass(c, fluid, walls, next_density, next_wall_density, true);
 }
 
 /// The fluid particles' shares of the wall particles' density sums (Eq. 19 at walls),
@@ -1594,21 +1655,6 @@ impl WallScatter {
             nearest_r2: vec![f64::INFINITY; len],
             nearest: vec![u32::MAX; len],
         }
-    }
-
-    fn clear(&mut self) {
-        self.rho
-            .par_iter_mut()
-            .zip(self.kernel_sum.par_iter_mut())
-            .zip(self.nearest_r2.par_iter_mut())
-            .zip(self.nearest.par_iter_mut())
-            .with_min_len(4 * PAR_CHUNK)
-            .for_each(|(((r, k), d), n)| {
-                *r = 0.0;
-                *k = 0.0;
-                *d = f64::INFINITY;
-                *n = u32::MAX;
-            });
     }
 
     /// Bytes held.
