@@ -532,7 +532,7 @@ impl SolverBytes {
         };
         SolverBytes {
             reachable,
-            private: scratch + sort_grid + search,
+            private: scratch + sort_grid + search + sim.sweep_buffer_bytes(),
         }
     }
 }

@@ -56,63 +56,52 @@ impl Kernel {
     /// W(r) (1/m^D).
     #[inline(always)]
     pub fn value(&self, r: f64) -> f64 {
-        let q = r * self.inv_h;
-        match self.kind {
-            KernelKind::CubicSpline => {
-                if q < 1.0 {
-                    self.norm * (1.0 - 1.5 * q * q + 0.75 * q * q * q)
-                } else if q < 2.0 {
-                    let t = 2.0 - q;
-                    self.norm * 0.25 * t * t * t
-                } else {
-                    0.0
-                }
-            }
-            KernelKind::WendlandC2 => {
-                if q < 2.0 {
-                    let t = 1.0 - 0.5 * q;
-                    let t2 = t * t;
-                    self.norm * t2 * t2 * (2.0 * q + 1.0)
-                } else {
-                    0.0
-                }
-            }
-        }
+        self.norm * self.shape(r * self.inv_h).0
     }
 
     /// W(r) and (dW/dr)/r together, with one evaluation of q = r/h (the density pass needs
     /// both for every pair). Equal to `(self.value(r), self.gradient_factor(r))`.
     #[inline(always)]
     pub fn value_and_gradient_factor(&self, r: f64) -> (f64, f64) {
-        (self.value(r), self.gradient_factor(r))
+        let q = r * self.inv_h;
+        let (w, d_dq) = self.shape(q);
+        (self.norm * w, self.factor_from(d_dq, q, r))
     }
 
     /// (dW/dr)/r (1/m^(D+2)), so that ∇_i W_ij = x_ij · gradient_factor(r_ij).
     #[inline(always)]
     pub fn gradient_factor(&self, r: f64) -> f64 {
         let q = r * self.inv_h;
-        let d_dq = match self.kind {
+        self.factor_from(self.shape(q).1, q, r)
+    }
+
+    /// The dimensionless shape f(q) (W = norm · f) and its derivative df/dq, without branches
+    /// on q: the pair loops see q < 1 and q > 1 about equally often, in no order a branch
+    /// predictor could follow.
+    #[inline(always)]
+    fn shape(&self, q: f64) -> (f64, f64) {
+        match self.kind {
+            // f = 1 − 3q²/2 + 3q³/4 for q < 1, (2 − q)³/4 for 1 ≤ q < 2, 0 beyond; with
+            // t = max(2 − q, 0) and u = max(1 − q, 0) this is f = t³/4 − u³, and
+            // df/dq = 3u² − 3t²/4 (= −3q + 9q²/4 for q < 1, −3(2 − q)²/4 for 1 ≤ q < 2).
             KernelKind::CubicSpline => {
-                if q < 1.0 {
-                    -3.0 * q + 2.25 * q * q
-                } else if q < 2.0 {
-                    let t = 2.0 - q;
-                    -0.75 * t * t
-                } else {
-                    0.0
-                }
+                let t = (2.0 - q).max(0.0);
+                let u = (1.0 - q).max(0.0);
+                (0.25 * t * t * t - u * u * u, 3.0 * u * u - 0.75 * t * t)
             }
-            // d/dq [(1 − q/2)^4 (2q + 1)] = −5 q (1 − q/2)^3
+            // f = (1 − q/2)^4 (2q + 1); d/dq [(1 − q/2)^4 (2q + 1)] = −5 q (1 − q/2)^3; 0 beyond
+            // q = 2.
             KernelKind::WendlandC2 => {
-                if q < 2.0 {
-                    let t = 1.0 - 0.5 * q;
-                    -5.0 * q * t * t * t
-                } else {
-                    0.0
-                }
+                let t = (1.0 - 0.5 * q).max(0.0);
+                let t2 = t * t;
+                (t2 * t2 * (2.0 * q + 1.0), -5.0 * q * t2 * t)
             }
-        };
-        // dW/dr = norm · d_dq / h; divided by r = q h.
+        }
+    }
+
+    /// (dW/dr)/r from df/dq: dW/dr = norm · df/dq / h, divided by r = q h (0 at r = 0).
+    #[inline(always)]
+    fn factor_from(&self, d_dq: f64, q: f64, r: f64) -> f64 {
         if q > 1e-12 {
             self.norm * d_dq * self.inv_h / r
         } else {

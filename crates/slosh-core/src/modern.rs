@@ -6,7 +6,8 @@
 //! when [`SphParams::uses_modern_step`] is true, so the paper path stays bit-for-bit as it was.
 //!
 //! Step order here:
-//! 1. re-sort (every few steps);
+//! 1. re-sort (every few steps; with the cell grid every step, at step 3, for the pair
+//!    sweeps of the paper step that evaluate each fluid pair once);
 //! 2. symplectic: time step from the state at n (v^n, a^{n−½}), predictor to n+½;
 //! 3. re-index; density stage: summation (paper Eq. 19–20) or nothing (continuity: the
 //!    density is integrated), the strain rate of Eq. 5 when μ > 0, the hydrostatic density of
@@ -102,6 +103,51 @@ fn hydrostatic_density(c: &PassConstants, g: f64, inv_gamma: f64, depth: f64) ->
 }
 
 impl<const D: usize> Simulation<D> {
+    /// Sorts every fluid array (and the per-particle buffers of the modern step) by cell with
+    /// the search grid, re-indexes the grid and splits the fluid into sweep blocks (the modern
+    /// step with the cell grid does this every step, for the pair sweeps).
+    pub(super) fn sort_all_and_index(&mut self) {
+        let Search::Grid(grid) = &mut self.search else {
+            return;
+        };
+        let order = grid.sort_order(&self.fluid.position);
+        let f = &mut self.fluid;
+        let (sv, sf, st, su) = (
+            &mut self.scratch_vec,
+            &mut self.scratch_f64,
+            &mut self.scratch_tensor,
+            &mut self.scratch_u32,
+        );
+        permute_par(&mut f.position, order, sv);
+        permute_par(&mut f.velocity, order, sv);
+        permute_par(&mut f.velocity_half, order, sv);
+        permute_par(&mut f.acceleration, order, sv);
+        permute_par(&mut f.density, order, sf);
+        permute_par(&mut f.inverse_density, order, sf);
+        permute_par(&mut f.pressure, order, sf);
+        permute_par(&mut f.kernel_sum, order, sf);
+        permute_par(&mut f.density_rate, order, sf);
+        permute_par(&mut f.strain_rate, order, st);
+        permute_par(&mut f.id, order, su);
+        if let Some(m) = &mut self.modern {
+            for v in [
+                &mut m.density_start,
+                &mut m.hydro_density,
+                &mut m.shift_kernel_sum,
+            ] {
+                if !v.is_empty() {
+                    permute_par(v, order, sf);
+                }
+            }
+            if !m.shift_gradient.is_empty() {
+                permute_par(&mut m.shift_gradient, order, sv);
+            }
+        }
+        grid.mark_sorted();
+        let target = (f.position.len() / 32).max(512);
+        grid.colour_blocks(target, &mut self.blocks);
+    }
+
     /// Initial state of a modern run: with continuity density the fluid starts at the
     /// hydrostatic density of its depth below the fill level (no settling pressure wave).
     pub(super) fn modern_init(&mut self) {
@@ -137,7 +183,8 @@ impl<const D: usize> Simulation<D> {
         let k = self.modern.as_ref().expect("modern state").k;
         let clock = std::time::Instant::now();
         let reorder = self.params.reorder_interval;
-        if reorder > 0 && self.step > 0 && self.step.is_multiple_of(reorder as u64) {
+        let sweeps = matches!(self.search, Search::Grid(_));
+        if !sweeps && reorder > 0 && self.step > 0 && self.step.is_multiple_of(reorder as u64) {
             self.sort_by_cell();
         }
         let mut body_force = -ground_accel;
@@ -150,7 +197,11 @@ impl<const D: usize> Simulation<D> {
         }
         let t1 = std::time::Instant::now();
         if self.step > 0 || k.symplectic {
-            self.rebuild_search();
+            if sweeps {
+                self.sort_all_and_index();
+            } else {
+                self.rebuild_search();
+            }
             let t_search = std::time::Instant::now();
             self.phase_times.neighbour_search += (t_search - clock).as_secs_f64();
             self.modern_density_stage(body_force);
@@ -388,7 +439,7 @@ impl<const D: usize> Simulation<D> {
             }
         } else if c.viscosity > 0.0 {
             match &self.search {
-                Search::Grid(s) => strain_pass(s, &c, &mut self.fluid),
+                Search::Grid(s) => strain_pass_sorted(s, &self.blocks, &c, &mut self.fluid),
                 Search::KdTree(s) => strain_pass(s, &c, &mut self.fluid),
             }
         }
@@ -432,9 +483,15 @@ impl<const D: usize> Simulation<D> {
         let c = self.constants;
         let st = self.modern.as_mut().expect("modern state");
         match &self.search {
-            Search::Grid(s) => {
-                modern_force_pass(s, &c, &mut self.fluid, &self.walls, st, body_force)
-            }
+            Search::Grid(s) => modern_force_pass_sorted(
+                s,
+                &self.blocks,
+                &c,
+                &mut self.fluid,
+                &self.walls,
+                st,
+                body_force,
+            ),
             Search::KdTree(s) => {
                 modern_force_pass(s, &c, &mut self.fluid, &self.walls, st, body_force)
             }
@@ -785,4 +842,260 @@ fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
                 pair_loop(i, acc, drho);
             });
     }
+}
+
+/// Strain rate V of Eq. 4–5 over the fluid neighbours (as [`strain_pass`]) on cell-sorted
+/// arrays, each pair once: (v_j − v_i) ⊗ ∇_i W_ij is the same tensor seen from j.
+fn strain_pass_sorted<const D: usize>(
+    grid: &CellGrid<D>,
+    blocks: &[u32],
+    c: &PassConstants,
+    fluid: &mut Fluid<D>,
+) {
+    let kernel = c.kernel;
+    let m = c.mass;
+    let pos = &fluid.position;
+    let vel = &fluid.velocity;
+    let inv_rho = &fluid.inverse_density;
+    fluid
+        .strain_rate
+        .par_iter_mut()
+        .with_min_len(PAR_CHUNK)
+        .for_each(|g| *g = Tensor::<D>::zeros());
+    let grad_acc = SharedSlice::new(&mut fluid.strain_rate);
+    colour_sweep(blocks, |_, begin, end| {
+        for i in begin..end {
+            let xi = pos[i];
+            let vi = vel[i];
+            let volume_i = m * inv_rho[i];
+            let mut grad_v = Tensor::<D>::zeros();
+            grid.for_each_forward_range(i, &xi, |j0, j1| {
+                for j in j0..j1 {
+                    let xij = xi - pos[j];
+                    let r2 = xij.norm_squared();
+                    if r2 < c.support_sq {
+                        let grad_w = xij * kernel.gradient_factor(r2.sqrt());
+                        let outer = (vel[j] - vi) * grad_w.transpose();
+                        grad_v += outer * (m * inv_rho[j]);
+                        // SAFETY: j is in this block or the next (colour_blocks).
+                        unsafe {
+                            *grad_acc.at(j) += outer * volume_i;
+                        }
+                    }
+                }
+            });
+            // SAFETY: slot i belongs to this block.
+            unsafe {
+                *grad_acc.at(i) += grad_v;
+            }
+        }
+    });
+    // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
+    fluid
+        .strain_rate
+        .par_iter_mut()
+        .with_min_len(PAR_CHUNK)
+        .for_each(|g| {
+            let trace = g.trace();
+            let mut v_tensor = *g + g.transpose();
+            for k in 0..D {
+                v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
+            }
+            *g = v_tensor;
+        });
+}
+
+/// The force pass of the modern step (as [`modern_force_pass`]) on cell-sorted arrays,
+/// each fluid pair once: the momentum term and the shifting gradient are antisymmetric in
+/// i and j (∇_j W_ji = −∇_i W_ij), the continuity term m (v_i − v_j)·∇_i W_ij symmetric, and
+/// the diffusion term of j is that of i with i and j exchanged.
+fn modern_force_pass_sorted<const D: usize>(
+    grid: &CellGrid<D>,
+    blocks: &[u32],
+    c: &PassConstants,
+    fluid: &mut Fluid<D>,
+    walls: &Walls<D>,
+    st: &mut ModernState<D>,
+    body_force: Vector<D>,
+) {
+    let k = st.k;
+    let kernel = c.kernel;
+    let m = c.mass;
+    let h = kernel.h;
+    let eps_h2 = 0.01 * h * h; // φ of Eq. 11
+    let viscous = c.viscosity > 0.0;
+    let av_on = c.av_alpha > 0.0 || c.av_beta > 0.0;
+    let continuity = k.continuity;
+    let diffusion = k.diffusion;
+    // ψ_ij·∇_i W_ij = 2 (ρ_j − ρ_i) x_ji·x_ij F/r² = −2 (ρ_j − ρ_i) F, F = (dW/dr)/r.
+    let diff_coeff = -2.0 * k.diffusion_coeff;
+    let shifting = k.shifting.is_some();
+    // Walls in the artificial viscosity and the viscous term: dynamic walls as the paper
+    // (wall at rest), Adami free-slip none, Adami no-slip the mirrored velocity.
+    let wall_av = av_on && (!k.adami || k.no_slip);
+    let wall_viscous = viscous && (!k.adami || k.no_slip);
+    let mirrored = k.adami && k.no_slip;
+    // Eq. 10: Π_ij = (−α c̄ φ + β φ²)/ρ̄ for approaching pairs, 0 otherwise (a receding
+    // pair has φ = 0).
+    let artificial_viscosity = |vij: Vector<D>, xij: Vector<D>, r2: f64, rho_mean: f64| -> f64 {
+        let v_dot_x = vij.dot(&xij).min(0.0);
+        let phi = h * v_dot_x / (r2 + eps_h2); // Eq. 11
+        (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) / rho_mean
+    };
+    let w0 = kernel.value(0.0);
+    let n = fluid.position.len();
+    fluid
+        .acceleration
+        .par_iter_mut()
+        .zip(fluid.density_rate.par_iter_mut())
+        .with_min_len(PAR_CHUNK)
+        .for_each(|(a, d)| {
+            *a = body_force;
+            *d = 0.0;
+        });
+    if shifting {
+        st.shift_gradient
+            .par_iter_mut()
+            .zip(st.shift_kernel_sum.par_iter_mut())
+            .with_min_len(PAR_CHUNK)
+            .for_each(|(g, s)| {
+                *g = Vector::<D>::zeros();
+                *s = 0.0;
+            });
+    }
+    let pos = &fluid.position;
+    let vel = &fluid.velocity;
+    let rho = &fluid.density;
+    let inv_rho = &fluid.inverse_density;
+    let p = &fluid.pressure;
+    let strain = &fluid.strain_rate;
+    let rho_h = &st.hydro_density;
+    let wall_vel = &st.wall_velocity;
+    let acc_shared = SharedSlice::new(&mut fluid.acceleration);
+    let drho_shared = SharedSlice::new(&mut fluid.density_rate);
+    let grad_c_shared = SharedSlice::new(&mut st.shift_gradient);
+    let ksum_shared = SharedSlice::new(&mut st.shift_kernel_sum);
+    debug_assert!(!shifting || st.shift_gradient.len() == n);
+    let wall_pos = &walls.position;
+    let wall_rho = &walls.density;
+    let wall_inv_rho = &walls.inverse_density;
+    let wall_p = &walls.pressure;
+    colour_sweep(blocks, |_, begin, end| {
+        for i in begin..end {
+            let xi = pos[i];
+            let vi = vel[i];
+            let rho_i = rho[i];
+            let inv_rho_i = inv_rho[i];
+            let volume_i = m * inv_rho_i;
+            let p_i = p[i];
+            let strain_i = strain[i];
+            let rho_dyn_i = if diffusion == 2 {
+                rho_i - rho_h[i]
+            } else {
+                rho_i
+            };
+            let mut acc = Vector::<D>::zeros();
+            let mut drho = 0.0;
+            let mut grad_c = Vector::<D>::zeros();
+            let mut ksum = if shifting { volume_i * w0 } else { 0.0 };
+            grid.for_each_forward_range(i, &xi, |j0, j1| {
+                for j in j0..j1 {
+                    let xij = xi - pos[j];
+                    let r2 = xij.norm_squared();
+                    if r2 >= c.support_sq {
+                        continue;
+                    }
+                    let r = r2.sqrt();
+                    let f = kernel.gradient_factor(r);
+                    let grad_w = xij * f;
+                    let rho_j = rho[j];
+                    let inv_rho_j = inv_rho[j];
+                    let volume_j = m * inv_rho_j;
+                    let inv_rho_ij = inv_rho_i * inv_rho_j;
+                    let vij = vi - vel[j];
+                    // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
+                    let mut scalar = -(p_i + p[j]) * inv_rho_ij;
+                    if av_on {
+                        scalar -= artificial_viscosity(vij, xij, r2, 0.5 * (rho_i + rho_j));
+                    }
+                    let mut term = grad_w * (m * scalar);
+                    if viscous {
+                        // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W (Eq. 8, 3).
+                        term += (strain_i + strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
+                    }
+                    acc += term;
+                    // SAFETY (all four): j is in this block or the next (colour_blocks).
+                    unsafe {
+                        *acc_shared.at(j) -= term;
+                    }
+                    if continuity {
+                        let d = m * vij.dot(&grad_w);
+                        let (mut d_i, mut d_j) = (d, d);
+                        if diffusion != 0 {
+                            let rho_dyn_j = if diffusion == 2 {
+                                rho_j - rho_h[j]
+                            } else {
+                                rho_j
+                            };
+                            let psi = diff_coeff * (rho_dyn_j - rho_dyn_i) * f;
+                            d_i += psi * volume_j;
+                            d_j -= psi * volume_i;
+                        }
+                        drho += d_i;
+                        unsafe {
+                            *drho_shared.at(j) += d_j;
+                        }
+                    }
+                    if shifting {
+                        let w = kernel.value(r);
+                        grad_c += grad_w * volume_j;
+                        ksum += volume_j * w;
+                        unsafe {
+                            *grad_c_shared.at(j) -= grad_w * volume_i;
+                            *ksum_shared.at(j) += volume_i * w;
+                        }
+                    }
+                }
+            });
+            grid.for_each_wall_candidate(&xi, |w| {
+                let xiw = xi - wall_pos[w];
+                let r2 = xiw.norm_squared();
+                if r2 >= c.support_sq {
+                    return;
+                }
+                let r = r2.sqrt();
+                let grad_w = xiw * kernel.gradient_factor(r);
+                let inv_rho_iw = inv_rho_i * wall_inv_rho[w];
+                let mut scalar = -(p_i + wall_p[w]) * inv_rho_iw;
+                if wall_av {
+                    let v_w = if mirrored {
+                        wall_vel[w]
+                    } else {
+                        Vector::<D>::zeros()
+                    };
+                    scalar -= artificial_viscosity(vi - v_w, xiw, r2, 0.5 * (rho_i + wall_rho[w]));
+                }
+                acc += grad_w * (m * scalar);
+                if wall_viscous {
+                    acc += strain_i * grad_w * (m * c.viscosity * inv_rho_iw);
+                }
+                if continuity {
+                    drho += m * vi.dot(&grad_w);
+                }
+                if shifting {
+                    grad_c += grad_w * (m * wall_inv_rho[w]);
+                    ksum += m * wall_inv_rho[w] * kernel.value(r);
+                }
+            });
+            // SAFETY: slot i belongs to this block.
+            unsafe {
+                *acc_shared.at(i) += acc;
+                *drho_shared.at(i) += drho;
+                if shifting {
+                    *grad_c_shared.at(i) += grad_c;
+                    *ksum_shared.at(i) += ksum;
+                }
+            }
+        }
+    });
 }

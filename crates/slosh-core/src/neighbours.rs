@@ -4,6 +4,7 @@
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::SVector;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Which neighbour-search implementation the solver uses.
@@ -33,10 +34,15 @@ pub trait NeighbourSearch<const D: usize>: Send + Sync {
 /// (the solver stops a run whose particles leave the box).
 #[derive(Clone, Debug)]
 pub struct CellGrid<const D: usize> {
+    /// The grid's axes: grid axis k is the space axis `axes[k]`. Grid axis 0 varies fastest
+    /// in the cell order (rows of cells along it are contiguous), the last one slowest.
+    axes: [usize; D],
+    /// Lower corner, in grid axis order.
     origin: SVector<f64, D>,
     inv_cell: f64,
     /// Cells visited on each side of a point's cell (cells are support/REACH wide).
     reach: usize,
+    /// Cells along each grid axis.
     dims: [usize; D],
     /// cell_start[c]..cell_start[c+1] is the range of `fluid_entries` in cell c.
     fluid_cell_start: Vec<u32>,
@@ -58,15 +64,38 @@ impl<const D: usize> CellGrid<D> {
         support: f64,
         walls: &[SVector<f64, D>],
     ) -> Self {
+        Self::with_slow_axis(lower, upper, support, walls, D - 1)
+    }
+
+    /// As [`Self::new`], with space axis `slow` (≥ 1) slowest in the cell order instead of
+    /// the last axis. The pair sweeps of the solver cut the sorted fluid into slabs across
+    /// the slowest axis, each at least two cells thick: the axis of the largest extent gives
+    /// the most slabs to share among threads. The x axis stays the fastest.
+    pub fn with_slow_axis(
+        lower: SVector<f64, D>,
+        upper: SVector<f64, D>,
+        support: f64,
+        walls: &[SVector<f64, D>],
+        slow: usize,
+    ) -> Self {
         let reach = 2;
         let cell_size = support / reach as f64;
+        let slow = if (1..D).contains(&slow) { slow } else { D - 1 };
+        let mut axes = [0usize; D];
+        for (a, axis) in (0..D).filter(|&a| a != slow).chain([slow]).enumerate() {
+            axes[a] = axis;
+        }
         let mut dims = [1usize; D];
+        let mut origin = lower;
         for (k, dim) in dims.iter_mut().enumerate() {
-            *dim = (((upper[k] - lower[k]) / cell_size).ceil() as usize).max(1) + 1;
+            let a = axes[k];
+            origin[k] = lower[a];
+            *dim = (((upper[a] - lower[a]) / cell_size).ceil() as usize).max(1) + 1;
         }
         let n_cells: usize = dims.iter().product();
         let mut grid = CellGrid {
-            origin: lower,
+            axes,
+            origin,
             inv_cell: 1.0 / cell_size,
             reach,
             dims,
@@ -92,9 +121,136 @@ impl<const D: usize> CellGrid<D> {
         }
     }
 
-    /// Number of cells along each axis.
+    /// Number of cells along each space axis.
     pub fn dims(&self) -> [usize; D] {
-        self.dims
+        let mut dims = [0; D];
+        for k in 0..D {
+            dims[self.axes[k]] = self.dims[k];
+        }
+        dims
+    }
+
+    /// Re-indexes the fluid particles and returns the cell order: `order[k]` is the index of
+    /// the particle that goes to slot k when the fluid arrays are sorted by cell. After the
+    /// caller has permuted its arrays by `order`, [`Self::mark_sorted`] makes the grid describe
+    /// the sorted arrays (cell c holds the slots `cell_start[c]..cell_start[c + 1]`).
+    pub fn sort_order(&mut self, fluid: &[SVector<f64, D>]) -> &[u32] {
+        self.rebuild_fluid(fluid);
+        &self.fluid_entries
+    }
+
+    /// Declares the fluid arrays sorted by the order of the last [`Self::sort_order`]: each
+    /// cell's particles are then the contiguous range of its cell start.
+    pub fn mark_sorted(&mut self) {
+        self.fluid_entries
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(4096)
+            .for_each(|(k, e)| *e = k as u32);
+    }
+
+    /// Start of each cell's range of fluid slots (length cells + 1; valid for sorted arrays
+    /// after [`Self::mark_sorted`]).
+    pub fn fluid_cell_starts(&self) -> &[u32] {
+        &self.fluid_cell_start
+    }
+
+    /// Largest difference of linear cell index between a cell and a cell of its search
+    /// stencil.
+    pub fn stencil_reach(&self) -> usize {
+        let mut stride = 1;
+        let mut reach = 0;
+        for k in 0..D {
+            reach += self.reach * stride;
+            stride *= self.dims[k];
+        }
+        reach
+    }
+
+    /// Splits the sorted fluid into blocks of whole cells for the two-colour pair sweeps:
+    /// `bounds` receives the first slot of each block and finally the particle count. Every
+    /// block but the last spans at least [`Self::stencil_reach`] cells, so the pairs a block
+    /// finds in the forward half stencil (see [`Self::for_each_forward_range`]) touch only
+    /// its own slots and those of the next block: blocks of equal parity never touch the
+    /// same slot. Blocks hold about `target` particles where the reach allows it.
+    pub fn colour_blocks(&self, target: usize, bounds: &mut Vec<u32>) {
+        bounds.clear();
+        let starts = &self.fluid_cell_start;
+        let n_cells = starts.len() - 1;
+        let min_cells = self.stencil_reach();
+        let n = starts[n_cells];
+        let mut c0 = 0usize;
+        bounds.push(0);
+        loop {
+            let mut c1 = (c0 + min_cells).min(n_cells);
+            while c1 < n_cells && ((starts[c1] - starts[c0]) as usize) < target {
+                c1 += 1;
+            }
+            // The rest is too short to stand alone: it joins this block.
+            if c1 + min_cells >= n_cells || starts[c1] == n {
+                bounds.push(n);
+                return;
+            }
+            bounds.push(starts[c1]);
+            c0 = c1;
+        }
+    }
+
+    /// For the particle in slot `i` at `x` of sorted arrays (after [`Self::mark_sorted`]):
+    /// calls `visit(begin, end)` for the slot ranges of the forward half of its stencil, the
+    /// slots after `i` in its own cell and the cells of higher linear index. Each pair of
+    /// particles within reach is then seen from exactly one of its two particles.
+    #[inline(always)]
+    pub fn for_each_forward_range<F: FnMut(usize, usize)>(
+        &self,
+        i: usize,
+        x: &SVector<f64, D>,
+        mut visit: F,
+    ) {
+        let starts = &self.fluid_cell_start;
+        let c = self.cell_coords(x);
+        let reach = self.reach as i64;
+        let x_lo = c[0].saturating_sub(self.reach);
+        let x_hi = (c[0] + self.reach).min(self.dims[0] - 1);
+        // The own row from the slot after i, then the rows of higher index in axes 1..D
+        // (offsets compared with the last axis most significant).
+        let mut offsets = [0i64; D];
+        let mut first = true;
+        loop {
+            let mut ok = true;
+            let mut base = 0usize;
+            for k in (1..D).rev() {
+                let ck = c[k] as i64 + offsets[k];
+                if ck < 0 || ck >= self.dims[k] as i64 {
+                    ok = false;
+                    break;
+                }
+                base = base * self.dims[k] + ck as usize;
+            }
+            if ok {
+                let row = base * self.dims[0];
+                let end = starts[row + x_hi + 1] as usize;
+                if first {
+                    visit(i + 1, end);
+                } else {
+                    visit(starts[row + x_lo] as usize, end);
+                }
+            }
+            first = false;
+            // Advance the odometer over axes 1..D.
+            let mut k = 1;
+            loop {
+                if k >= D {
+                    return;
+                }
+                offsets[k] += 1;
+                if offsets[k] <= reach {
+                    break;
+                }
+                offsets[k] = -reach;
+                k += 1;
+            }
+        }
     }
 
     /// Integer cell coordinates of a point, clamped to the grid.
@@ -102,11 +258,12 @@ impl<const D: usize> CellGrid<D> {
     fn cell_coords(&self, x: &SVector<f64, D>) -> [usize; D] {
         let mut c = [0usize; D];
         for k in 0..D {
-            let f = ((x[k] - self.origin[k]) * self.inv_cell).floor();
-            c[k] = if f <= 0.0 || f.is_nan() {
-                0
-            } else {
+            // Truncation is the floor for positive values (and cheaper than `floor`).
+            let f = (x[self.axes[k]] - self.origin[k]) * self.inv_cell;
+            c[k] = if f > 0.0 {
                 (f as usize).min(self.dims[k] - 1)
+            } else {
+                0 // negative, or NaN
             };
         }
         c
@@ -133,10 +290,14 @@ impl<const D: usize> CellGrid<D> {
         entries: &mut [u32],
     ) {
         start.iter_mut().for_each(|s| *s = 0);
-        for (i, p) in points.iter().enumerate() {
-            let c = self.cell_index(p);
-            cell_of[i] = c as u32;
-            start[c + 1] += 1;
+        // The cells in parallel (the floating-point half of the work), the counts serially.
+        cell_of
+            .par_iter_mut()
+            .zip(points.par_iter())
+            .with_min_len(4096)
+            .for_each(|(c, p)| *c = self.cell_index(p) as u32);
+        for &c in cell_of.iter() {
+            start[c as usize + 1] += 1;
         }
         for c in 0..start.len() - 1 {
             start[c + 1] += start[c];
@@ -352,15 +513,66 @@ mod tests {
         let hi = SVector::<f64, D>::from_element(1.1);
         let mut grid = CellGrid::new(lo, hi, radius, &points);
         grid.rebuild_fluid(&points);
+        // The same grid with the y axis slowest in the cell order.
+        let mut grid_y = CellGrid::with_slow_axis(lo, hi, radius, &points, 1);
+        grid_y.rebuild_fluid(&points);
         let mut tree = KdTreeSearch::new(radius, &points);
         tree.rebuild_fluid(&points);
         for x in queries {
             let expected = brute(&points, x, radius);
             for fluid in [true, false] {
                 assert_eq!(within(&grid, &points, x, radius, fluid), expected);
+                assert_eq!(within(&grid_y, &points, x, radius, fluid), expected);
                 assert_eq!(within(&tree, &points, x, radius, fluid), expected);
             }
         }
+    }
+
+    /// On cell-sorted points the forward ranges find every pair within the radius exactly
+    /// once (from its lower slot), and the pairs found from a colour block stay within that
+    /// block and the next.
+    #[test]
+    fn forward_ranges_find_each_pair_once() {
+        let radius = 0.12;
+        let lo = SVector::<f64, 3>::from_element(-0.1);
+        let hi = SVector::<f64, 3>::from_element(1.1);
+        let points = random_points::<3>(4000, 1.0, 23);
+        let mut grid = CellGrid::with_slow_axis(lo, hi, radius, &[], 1);
+        let order = grid.sort_order(&points).to_vec();
+        let sorted: Vec<SVector<f64, 3>> = order.iter().map(|&i| points[i as usize]).collect();
+        grid.mark_sorted();
+        let mut bounds = Vec::new();
+        grid.colour_blocks(300, &mut bounds);
+        assert!(bounds.len() > 3, "too few blocks: {bounds:?}");
+        let mut found = 0usize;
+        for b in 0..bounds.len() - 1 {
+            let limit = bounds
+                .get(b + 2)
+                .copied()
+                .unwrap_or(bounds[bounds.len() - 1]) as usize;
+            for i in bounds[b] as usize..bounds[b + 1] as usize {
+                grid.for_each_forward_range(i, &sorted[i], |j0, j1| {
+                    assert!(
+                        j0 > i && j1 <= limit,
+                        "slot {i}: range {j0}..{j1}, limit {limit}"
+                    );
+                    for j in j0..j1 {
+                        if (sorted[i] - sorted[j]).norm_squared() < radius * radius {
+                            found += 1;
+                        }
+                    }
+                });
+            }
+        }
+        let mut expected = 0usize;
+        for i in 0..sorted.len() {
+            for j in i + 1..sorted.len() {
+                if (sorted[i] - sorted[j]).norm_squared() < radius * radius {
+                    expected += 1;
+                }
+            }
+        }
+        assert_eq!(found, expected);
     }
 
     #[test]

@@ -119,7 +119,8 @@ pub struct SphParams {
     pub allow_unstable_dt: bool,
     /// Neighbour-search implementation.
     pub neighbour_backend: NeighbourBackend,
-    /// Re-sort the fluid particles by cell every this many steps (0 = never).
+    /// Re-sort the fluid particles by cell every this many steps (0 = never). Used by the
+    /// k-d tree backend only: with the cell grid the fluid is sorted every step.
     pub reorder_interval: usize,
     /// How wall pressure is evaluated for loads.
     pub wall_pressure: WallPressureMethod,

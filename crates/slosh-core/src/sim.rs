@@ -1,10 +1,19 @@
 //! The simulation state and the time step, written once for 2D and 3D.
 //!
 //! One step (paper §2):
-//! 1. re-index (and every few steps re-sort) the fluid particles;
+//! 1. sort the fluid arrays by cell and re-index them (k-d tree backend: re-index every step,
+//!    re-sort every few steps);
 //! 2. density pass: summation density (Eq. 19) of fluid and wall particles, the kernel sum of
 //!    the free-surface test (Eq. 20) and the strain rate V of Eq. 5; then the EOS (Eq. 18);
-//! 3. force pass: the symmetric momentum equation with artificial viscosity (Eq. 8–16);
+//! 3. force pass: the symmetric momentum equation with artificial viscosity (Eq. 8–16).
+//!
+//!    With the cell grid both passes evaluate each fluid pair once and add it to both
+//!    particles (the pair terms are symmetric or antisymmetric in i and j): the sorted fluid
+//!    is cut into blocks of whole cells at least one stencil reach long, each particle pairs
+//!    with the particles of the forward half of its stencil, and the even blocks run in
+//!    parallel before the odd ones, so no two threads write the same particle
+//!    (`colour_sweep`). The density pass keeps the pairs it found (forward fluid neighbours
+//!    and all wall neighbours) for the force pass;
 //! 4. time step from the CFL bounds (or the fixed dt), leap-frog update (Eq. 21–22);
 //! 5. wall pressures for loads (§2.6) and their time window.
 //!
@@ -32,6 +41,8 @@ pub type Tensor<const D: usize> = SMatrix<f64, D, D>;
 /// Chunk length for rayon loops: large enough to amortise scheduling.
 const PAR_CHUNK: usize = 256;
 
+/// Candidates gathered before evaluation in the sorted density pass.
+const BATCH: usize = 32;
 /// Marks a wall particle in a neighbour list (the low 31 bits hold its index).
 const WALL_NEIGHBOUR: u32 = 1 << 31;
 /// Count value meaning "the list overflowed: search again".
@@ -224,6 +235,8 @@ pub struct Simulation<const D: usize> {
     loads: LoadEvaluator<D>,
     // Scratch buffers, allocated once.
     scratch_vec: Vec<Vector<D>>,
+    /// A second vector scratch for the one-loop sort of the paper step (empty otherwise).
+    scratch_vec2: Vec<Vector<D>>,
     scratch_f64: Vec<f64>,
     scratch_tensor: Vec<Tensor<D>>,
     scratch_u32: Vec<u32>,
@@ -234,6 +247,13 @@ pub struct Simulation<const D: usize> {
     modern: Option<modern::ModernState<D>>,
     /// `still_level()`, computed once (m).
     still_level_cached: f64,
+    /// The paper step with the cell grid keeps the fluid sorted by cell every step and sweeps
+    /// each pair once ([`density_pass_sorted`], [`force_pass_sorted`]).
+    sorted_every_step: bool,
+    /// Block bounds of the colour sweeps ([`CellGrid::colour_blocks`]).
+    blocks: Vec<u32>,
+    /// Fluid → wall density sums of the sorted density pass.
+    wall_scatter: WallScatter,
 }
 
 impl<const D: usize> Simulation<D> {
@@ -382,12 +402,19 @@ impl<const D: usize> Simulation<D> {
             area: setup.wall_area,
             layer: setup.wall_layer,
         };
+        // The sweeps cut the fluid into slabs across the grid's slowest axis: the axis of
+        // the tank's largest extent (besides x, the rows), the last one on ties.
+        let slow_axis = (1..D)
+            .rev()
+            .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])).then(a.cmp(&b)))
+            .unwrap_or(D - 1);
         let search = match params.neighbour_backend {
-            NeighbourBackend::CellGrid => Search::Grid(CellGrid::new(
+            NeighbourBackend::CellGrid => Search::Grid(CellGrid::with_slow_axis(
                 domain_min,
                 domain_max,
                 kernel.support(),
                 &walls.position,
+                slow_axis,
             )),
             NeighbourBackend::KdTree => {
                 Search::KdTree(KdTreeSearch::new(kernel.support(), &walls.position))
@@ -435,19 +462,37 @@ impl<const D: usize> Simulation<D> {
             phase_times: PhaseTimes::default(),
             loads,
             scratch_vec: vec![Vector::<D>::zeros(); n],
+            scratch_vec2: Vec::new(),
             scratch_f64: vec![0.0; n],
             scratch_tensor: vec![Tensor::<D>::zeros(); n],
             scratch_u32: vec![0; n],
             order: vec![0; n],
             next_density: vec![0.0; n],
             next_wall_density: vec![0.0; n_wall],
+            sorted_every_step: modern.is_none()
+                && params.neighbour_backend == NeighbourBackend::CellGrid,
             modern,
             still_level_cached: 0.0,
+            blocks: Vec::new(),
+            wall_scatter: WallScatter::default(),
             params,
         };
         sim.still_level_cached = sim.still_level();
-        sim.sort_by_cell();
-        sim.rebuild_search();
+        if let Search::Grid(grid) = &sim.search {
+            // Room for the most blocks colour_blocks can make (one per stencil reach of cells).
+            let cells: usize = grid.dims().iter().product();
+            sim.blocks.reserve(cells / grid.stencil_reach().max(1) + 2);
+        }
+        if sim.sorted_every_step {
+            sim.wall_scatter = WallScatter::new(n_wall);
+            sim.scratch_vec2 = vec![Vector::<D>::zeros(); n];
+            sim.sort_and_index();
+        } else if sim.modern.is_some() && matches!(sim.search, Search::Grid(_)) {
+            sim.sort_all_and_index();
+        } else {
+            sim.sort_by_cell();
+            sim.rebuild_search();
+        }
         if sim.modern.is_some() {
             sim.modern_init();
         } else {
@@ -470,11 +515,19 @@ impl<const D: usize> Simulation<D> {
         }
         let clock = std::time::Instant::now();
         let reorder = self.params.reorder_interval;
-        if reorder > 0 && self.step > 0 && self.step.is_multiple_of(reorder as u64) {
+        if !self.sorted_every_step
+            && reorder > 0
+            && self.step > 0
+            && self.step.is_multiple_of(reorder as u64)
+        {
             self.sort_by_cell();
         }
         if self.step > 0 {
-            self.rebuild_search();
+            if self.sorted_every_step {
+                self.sort_and_index();
+            } else {
+                self.rebuild_search();
+            }
             let t1 = std::time::Instant::now();
             self.phase_times.neighbour_search += (t1 - clock).as_secs_f64();
             self.compute_density_and_pressure();
@@ -604,9 +657,77 @@ impl<const D: usize> Simulation<D> {
         // density pass before anything reads them.
     }
 
+    /// Sorts the fluid arrays by cell with the search grid (the arrays the paper step reads
+    /// before writing: position, velocity, half-step velocity, 1/ρ and the id; the rest is
+    /// recomputed from them), re-indexes the grid, zeroes the sums of the density sweep and
+    /// splits the fluid into sweep blocks.
+    fn sort_and_index(&mut self) {
+        let Search::Grid(grid) = &mut self.search else {
+            return;
+        };
+        let order = grid.sort_order(&self.fluid.position);
+        let f = &mut self.fluid;
+        // One parallel loop gathers the arrays into scratch buffers (the acceleration, which
+        // the force pass recomputes, serves as the velocity's) and zeroes the accumulators of
+        // the density sweep.
+        {
+            let (x, v, vh, inv, id) = (
+                &f.position,
+                &f.velocity,
+                &f.velocity_half,
+                &f.inverse_density,
+                &f.id,
+            );
+            self.scratch_vec
+                .par_iter_mut()
+                .zip(f.acceleration.par_iter_mut())
+                .zip(self.scratch_vec2.par_iter_mut())
+                .zip(self.scratch_f64.par_iter_mut())
+                .zip(self.scratch_u32.par_iter_mut())
+                .zip(order.par_iter())
+                .zip(self.next_density.par_iter_mut())
+                .zip(f.kernel_sum.par_iter_mut())
+                .zip(f.strain_rate.par_iter_mut())
+                .with_min_len(PAR_CHUNK)
+                .for_each(
+                    |((((((((x_new, v_new), vh_new), inv_new), id_new), &o), rho), ksum), g)| {
+                        let o = o as usize;
+                        *x_new = x[o];
+                        *v_new = v[o];
+                        *vh_new = vh[o];
+                        *inv_new = inv[o];
+                        *id_new = id[o];
+                        *rho = 0.0;
+                        *ksum = 0.0;
+                        *g = Tensor::<D>::zeros();
+                    },
+                );
+        }
+        std::mem::swap(&mut f.position, &mut self.scratch_vec);
+        std::mem::swap(&mut f.velocity, &mut f.acceleration);
+        std::mem::swap(&mut f.velocity_half, &mut self.scratch_vec2);
+        std::mem::swap(&mut f.inverse_density, &mut self.scratch_f64);
+        std::mem::swap(&mut f.id, &mut self.scratch_u32);
+        grid.mark_sorted();
+        // Blocks of ≈ n/32 particles whatever the thread count, so the order of the sums (and
+        // the result) does not depend on it.
+        let target = (f.position.len() / 32).max(512);
+        grid.colour_blocks(target, &mut self.blocks);
+    }
+
     fn compute_density_and_pressure(&mut self) {
         let c = self.constants;
         match &self.search {
+            Search::Grid(s) if self.sorted_every_step => density_pass_sorted(
+                s,
+                &self.blocks,
+                &c,
+                &mut self.fluid,
+                &mut self.walls,
+                &mut self.next_density,
+                &mut self.next_wall_density,
+                &mut self.wall_scatter,
+            ),
             Search::Grid(s) => density_pass(
                 s,
                 &c,
@@ -629,6 +750,14 @@ impl<const D: usize> Simulation<D> {
     fn compute_forces(&mut self, body_force: Vector<D>) {
         let c = self.constants;
         match &self.search {
+            Search::Grid(s) if self.sorted_every_step => force_pass_sorted(
+                s,
+                &self.blocks,
+                &c,
+                &mut self.fluid,
+                &self.walls,
+                body_force,
+            ),
             Search::Grid(s) => force_pass(s, &c, &mut self.fluid, &self.walls, body_force),
             Search::KdTree(s) => force_pass(s, &c, &mut self.fluid, &self.walls, body_force),
         }
@@ -750,6 +879,13 @@ impl<const D: usize> Simulation<D> {
     /// The fluid particles.
     pub fn fluid(&self) -> &Fluid<D> {
         &self.fluid
+    }
+    /// Bytes of the buffers of the pair sweeps of the paper step (fluid → wall density sums
+    /// and block bounds), beside the arrays of [`Fluid`] and [`Walls`].
+    pub fn sweep_buffer_bytes(&self) -> usize {
+        self.wall_scatter.heap_bytes()
+            + self.blocks.capacity() * 4
+            + self.scratch_vec2.capacity() * size_of::<Vector<D>>()
     }
     /// The wall particles.
     pub fn walls(&self) -> &Walls<D> {
@@ -940,7 +1076,7 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
     fluid: &mut Fluid<D>,
     walls: &mut Walls<D>,
     next_density: &mut Vec<f64>,
-    next_wall_density: &mut Vec<f64>,
+    next_wall_density: &mut [f64],
 ) {
     let kernel = c.kernel;
     let m = c.mass;
@@ -1020,36 +1156,78 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
                 },
             );
     }
+    wall_density_and_eos(search, c, fluid, walls, next_density, next_wall_density);
+}
+
+/// The wall half of the density pass (Eq. 19 and 20 at wall particles), then the
+/// free-surface reset (Eq. 20) and the EOS (Eq. 18) of fluid and walls, once the fluid sums
+/// are in `next_density` and `fluid.kernel_sum`.
+fn wall_density_and_eos<const D: usize, S: NeighbourSearch<D>>(
+    search: &S,
+    c: &PassConstants,
+    fluid: &mut Fluid<D>,
+    walls: &mut Walls<D>,
+    next_density: &[f64],
+    next_wall_density: &mut [f64],
+) {
     {
         let pos = &fluid.position;
         let inv_rho = &fluid.inverse_density;
         let wall_pos = &walls.position;
         let wall_inv_rho = &walls.inverse_density;
-        next_wall_density
-            .par_iter_mut()
-            .zip(walls.nearest_fluid.par_iter_mut())
-            .enumerate()
-            .with_min_len(PAR_CHUNK)
-            .for_each(|(w_i, (rho_out, nearest_out))| {
-                let (rho_sum, kernel_sum, nearest) = wall_summation(
-                    search,
-                    c,
-                    &wall_pos[w_i],
-                    pos,
-                    inv_rho,
-                    wall_pos,
-                    wall_inv_rho,
-                );
-                // Eq. 20 applies to wall particles too: a wall particle with too few
-                // neighbours (outer layers, above the liquid) keeps ρ0.
-                *rho_out = if kernel_sum < c.free_surface_threshold {
-                    c.rest_density
-                } else {
-                    rho_sum
-                };
-                *nearest_out = nearest.1;
-            });
+        wall_densities(c, next_wall_density, &mut walls.nearest_fluid, |w_i| {
+            let (rho_sum, kernel_sum, nearest) = wall_summation(
+                search,
+                c,
+                &wall_pos[w_i],
+                pos,
+                inv_rho,
+                wall_pos,
+                wall_inv_rho,
+            );
+            (rho_sum, kernel_sum, nearest.1)
+        });
     }
+    eos_pass(c, fluid, walls, next_density, next_wall_density, false);
+}
+
+/// Wall densities from `sums(w) = (Σ m W, Σ (m/ρ) W, nearest fluid particle)` over the fluid
+/// and wall neighbours of wall particle w (Eq. 19), with the Eq. 20 reset.
+fn wall_densities<F: Fn(usize) -> (f64, f64, u32) + Sync>(
+    c: &PassConstants,
+    next_wall_density: &mut [f64],
+    nearest_fluid: &mut [u32],
+    sums: F,
+) {
+    next_wall_density
+        .par_iter_mut()
+        .zip(nearest_fluid.par_iter_mut())
+        .enumerate()
+        .with_min_len(PAR_CHUNK)
+        .for_each(|(w_i, (rho_out, nearest_out))| {
+            let (rho_sum, kernel_sum, nearest) = sums(w_i);
+            // Eq. 20 applies to wall particles too: a wall particle with too few
+            // neighbours (outer layers, above the liquid) keeps ρ0.
+            *rho_out = if kernel_sum < c.free_surface_threshold {
+                c.rest_density
+            } else {
+                rho_sum
+            };
+            *nearest_out = nearest;
+        });
+}
+
+/// The free-surface reset (Eq. 20) and the EOS (Eq. 18) of fluid and wall particles from
+/// the density sums; with `strain_from_gradient` the fluid's `strain_rate` holds the velocity
+/// gradient G and is turned into V here.
+fn eos_pass<const D: usize>(
+    c: &PassConstants,
+    fluid: &mut Fluid<D>,
+    walls: &mut Walls<D>,
+    next_density: &[f64],
+    next_wall_density: &[f64],
+    strain_from_gradient: bool,
+) {
     // Eq. 20: free-surface reset, then Eq. 18: pressure.
     fluid
         .density
@@ -1058,8 +1236,9 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
         .zip(next_density.par_iter())
         .zip(fluid.kernel_sum.par_iter())
         .zip(fluid.pressure.par_iter_mut())
+        .zip(fluid.strain_rate.par_iter_mut())
         .with_min_len(PAR_CHUNK)
-        .for_each(|((((rho, inv), &rho_new), &ksum), p)| {
+        .for_each(|(((((rho, inv), &rho_new), &ksum), p), g)| {
             *rho = if ksum < c.free_surface_threshold {
                 c.rest_density
             } else {
@@ -1067,6 +1246,15 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
             };
             *inv = 1.0 / *rho;
             *p = c.pressure(*rho);
+            if strain_from_gradient {
+                // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
+                let trace = g.trace();
+                let mut v_tensor = *g + g.transpose();
+                for k in 0..D {
+                    v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
+                }
+                *g = v_tensor;
+            }
         });
     walls
         .density
@@ -1193,4 +1381,421 @@ fn force_pass<const D: usize, S: NeighbourSearch<D>>(
             }
             *acc_out = acc + body_force;
         });
+}
+
+/// A slice written through by the blocks of one colour of a pair sweep (`colour_sweep`),
+/// which touch disjoint slots.
+struct SharedSlice<T> {
+    ptr: *mut T,
+    len: usize,
+}
+
+// SAFETY: a SharedSlice is only dereferenced at slots that no other thread touches at the
+// same time (see `at`); the element type itself moves between threads.
+unsafe impl<T: Send> Send for SharedSlice<T> {}
+unsafe impl<T: Send> Sync for SharedSlice<T> {}
+
+impl<T> SharedSlice<T> {
+    fn new(values: &mut [T]) -> Self {
+        SharedSlice {
+            ptr: values.as_mut_ptr(),
+            len: values.len(),
+        }
+    }
+
+    /// The element at `i`.
+    ///
+    /// # Safety
+    /// No other thread may access slot `i` while the reference lives: in a colour sweep,
+    /// slot `i` belongs to the running block or to the next one, and blocks of one colour are
+    /// two apart.
+    #[inline(always)]
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn at(&self, i: usize) -> &mut T {
+        debug_assert!(i < self.len);
+        &mut *self.ptr.add(i)
+    }
+
+    /// The `len` elements from `start`.
+    ///
+    /// # Safety
+    /// As for [`Self::at`], for every slot of the range.
+    #[inline(always)]
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn slice(&self, start: usize, len: usize) -> &mut [T] {
+        debug_assert!(start + len <= self.len);
+        std::slice::from_raw_parts_mut(self.ptr.add(start), len)
+    }
+}
+
+/// Runs `block(b, begin, end)` for every block b of slots given by `bounds` (see
+/// [`CellGrid::colour_blocks`]): first the even blocks in parallel, then the odd ones. A block
+/// may write its own slots and those of the next block; blocks of one colour never meet, and
+/// the result does not depend on the number of threads.
+fn colour_sweep<F: Fn(usize, usize, usize) + Sync>(bounds: &[u32], block: F) {
+    let n_blocks = bounds.len().saturating_sub(1);
+    for parity in 0..2 {
+        (parity..n_blocks)
+            .into_par_iter()
+            .step_by(2)
+            .with_max_len(1)
+            .for_each(|b| block(b, bounds[b] as usize, bounds[b + 1] as usize));
+    }
+}
+
+/// Density pass (Eq. 19, 20, 18, 5) on cell-sorted fluid arrays: each fluid pair is
+/// evaluated once, from the particle that finds the other in its forward half stencil, and
+/// adds to both. Fills the half neighbour lists (forward fluid neighbours and all wall
+/// neighbours) for [`force_pass_sorted`].
+#[allow(clippy::too_many_arguments)]
+fn density_pass_sorted<const D: usize>(
+    grid: &CellGrid<D>,
+    blocks: &[u32],
+    c: &PassConstants,
+    fluid: &mut Fluid<D>,
+    walls: &mut Walls<D>,
+    next_density: &mut [f64],
+    next_wall_density: &mut [f64],
+    scatter: &mut WallScatter,
+) {
+    let kernel = c.kernel;
+    let m = c.mass;
+    let w0 = kernel.value(0.0);
+    let n_wall = walls.position.len();
+    // The fluid sums start at zero (zeroed by `sort_and_index`), the wall sums too (zeroed
+    // when read, below).
+    {
+        let pos = &fluid.position;
+        let vel = &fluid.velocity;
+        let inv_rho = &fluid.inverse_density;
+        let wall_pos = &walls.position;
+        let wall_inv_rho = &walls.inverse_density;
+        let capacity = fluid.neighbours.capacity;
+        let rho_acc = SharedSlice::new(next_density);
+        let ksum_acc = SharedSlice::new(&mut fluid.kernel_sum);
+        // Velocity gradient G_ab = Σ (m/ρ_j)(v_j − v_i)_a ∂W/∂x_i,b (Eq. 5 terms); turned
+        // into V below.
+        let grad_acc = SharedSlice::new(&mut fluid.strain_rate);
+        let entries = SharedSlice::new(&mut fluid.neighbours.entries);
+        let counts = SharedSlice::new(&mut fluid.neighbours.count);
+        let wall_rho_acc = SharedSlice::new(&mut scatter.rho);
+        let wall_ksum_acc = SharedSlice::new(&mut scatter.kernel_sum);
+        let wall_near_r2 = SharedSlice::new(&mut scatter.nearest_r2);
+        let wall_near = SharedSlice::new(&mut scatter.nearest);
+        colour_sweep(blocks, |b, begin, end| {
+            // This block's set of wall sums (see WallScatter).
+            let set = (b % WallScatter::SETS) * n_wall;
+            for i in begin..end {
+                let xi = pos[i];
+                let vi = vel[i];
+                let volume_i = m * inv_rho[i];
+                // SAFETY: slot i's list belongs to the block that owns slot i.
+                let list = unsafe { entries.slice(i * capacity, capacity) };
+                let mut listed = 0usize;
+                let mut overflow = false;
+                // The particle itself (r = 0, no gradient).
+                let mut rho_sum = m * w0;
+                let mut kernel_sum = volume_i * w0;
+                let mut grad_v = Tensor::<D>::zeros();
+                // The candidates within the support are gathered in batches without a branch
+                // per candidate, then evaluated in a loop without unpredictable branches.
+                let mut process = |batch_j: &[u32], batch_r2: &[f64]| {
+                    for (&j, &r2) in batch_j.iter().zip(batch_r2) {
+                        let j = j as usize;
+                        let xij = xi - pos[j];
+                        let r = r2.sqrt();
+                        let (w, grad_factor) = kernel.value_and_gradient_factor(r);
+                        let volume_j = m * inv_rho[j];
+                        let mw = m * w;
+                        rho_sum += mw;
+                        kernel_sum += volume_j * w;
+                        // (v_j − v_i) ⊗ ∇_i W_ij; for j the pair gives (v_i − v_j) ⊗ ∇_j W_ji,
+                        // the same tensor.
+                        let outer = (vel[j] - vi) * (xij * grad_factor).transpose();
+                        grad_v += outer * volume_j;
+                        // SAFETY: j is in this block or the next (colour_blocks).
+                        unsafe {
+                            *rho_acc.at(j) += mw;
+                            *ksum_acc.at(j) += volume_i * w;
+                            *grad_acc.at(j) += outer * volume_i;
+                        }
+                    }
+                    let room = batch_j.len().min(capacity - listed);
+                    list[listed..listed + room].copy_from_slice(&batch_j[..room]);
+                    listed += room;
+                    overflow |= room < batch_j.len();
+                };
+                let mut batch_j = [0u32; BATCH];
+                let mut batch_r2 = [0.0f64; BATCH];
+                let mut batched = 0usize;
+                grid.for_each_forward_range(i, &xi, |j0, j1| {
+                    for (j, xj) in (j0..j1).zip(&pos[j0..j1]) {
+                        let r2 = (xi - xj).norm_squared();
+                        batch_j[batched] = j as u32;
+                        batch_r2[batched] = r2;
+                        batched += (r2 < c.support_sq) as usize;
+                        if batched == BATCH {
+                            process(&batch_j, &batch_r2);
+                            batched = 0;
+                        }
+                    }
+                });
+                process(&batch_j[..batched], &batch_r2[..batched]);
+                grid.for_each_wall_candidate(&xi, |w_idx| {
+                    let xiw = xi - wall_pos[w_idx];
+                    let r2 = xiw.norm_squared();
+                    if r2 < c.support_sq {
+                        let w = kernel.value(r2.sqrt());
+                        rho_sum += m * w;
+                        kernel_sum += m * wall_inv_rho[w_idx] * w;
+                        // The pair's share of the wall particle's sums (Eq. 19 at the wall).
+                        // SAFETY: blocks using one set are ≥ 3 stencil reaches apart, farther
+                        // than two fluid neighbours of one wall particle can be.
+                        unsafe {
+                            let k = set + w_idx;
+                            *wall_rho_acc.at(k) += m * w;
+                            *wall_ksum_acc.at(k) += volume_i * w;
+                            let near = wall_near_r2.at(k);
+                            if r2 < *near {
+                                *near = r2;
+                                *wall_near.at(k) = i as u32;
+                            }
+                        }
+                        if listed < capacity {
+                            list[listed] = w_idx as u32 | WALL_NEIGHBOUR;
+                            listed += 1;
+                        } else {
+                            overflow = true;
+                        }
+                    }
+                });
+                // SAFETY: slot i belongs to this block.
+                unsafe {
+                    *counts.at(i) = if overflow {
+                        LIST_OVERFLOW
+                    } else {
+                        listed as u16
+                    };
+                    *rho_acc.at(i) += rho_sum;
+                    *ksum_acc.at(i) += kernel_sum;
+                    *grad_acc.at(i) += grad_v;
+                }
+            }
+        });
+    }
+    {
+        let wall_pos = &walls.position;
+        let wall_inv_rho = &walls.inverse_density;
+        let set_rho = SharedSlice::new(&mut scatter.rho);
+        let set_ksum = SharedSlice::new(&mut scatter.kernel_sum);
+        let set_near_r2 = SharedSlice::new(&mut scatter.nearest_r2);
+        let set_near = SharedSlice::new(&mut scatter.nearest);
+        wall_densities(c, next_wall_density, &mut walls.nearest_fluid, |w_i| {
+            // Fluid neighbours: the sets of the sweep, in a fixed order, left zeroed for the
+            // next step.
+            let (mut rho_sum, mut kernel_sum) = (0.0, 0.0);
+            let mut nearest = (f64::INFINITY, u32::MAX);
+            for s in 0..WallScatter::SETS {
+                let k = s * n_wall + w_i;
+                // SAFETY: entry k belongs to wall particle w_i, visited once.
+                let candidate = unsafe {
+                    rho_sum += std::mem::take(set_rho.at(k));
+                    kernel_sum += std::mem::take(set_ksum.at(k));
+                    (
+                        std::mem::replace(set_near_r2.at(k), f64::INFINITY),
+                        std::mem::replace(set_near.at(k), u32::MAX),
+                    )
+                };
+                if candidate.0 < nearest.0 || (candidate.0 == nearest.0 && candidate.1 < nearest.1)
+                {
+                    nearest = candidate;
+                }
+            }
+            // Wall neighbours.
+            let xw = wall_pos[w_i];
+            grid.for_each_wall_candidate(&xw, |k| {
+                let r2 = (xw - wall_pos[k]).norm_squared();
+                if r2 < c.support_sq {
+                    let w = kernel.value(r2.sqrt());
+                    rho_sum += m * w;
+                    kernel_sum += m * wall_inv_rho[k] * w;
+                }
+            });
+            (rho_sum, kernel_sum, nearest.1)
+        });
+    }
+    eos_pass(c, fluid, walls, next_density, next_wall_density, true);
+}
+
+/// The fluid particles' shares of the wall particles' density sums (Eq. 19 at walls),
+/// scattered by the density sweep: one set of sums per block residue modulo [`Self::SETS`],
+/// so that blocks running at the same time never add to the same entry.
+#[derive(Clone, Debug, Default)]
+struct WallScatter {
+    /// Σ m W per set and wall particle (set-major).
+    rho: Vec<f64>,
+    /// Σ (m/ρ_j) W per set and wall particle.
+    kernel_sum: Vec<f64>,
+    /// Squared distance of the nearest fluid particle per set and wall particle.
+    nearest_r2: Vec<f64>,
+    /// That fluid particle (u32::MAX: none).
+    nearest: Vec<u32>,
+}
+
+impl WallScatter {
+    /// Sets: blocks b and b + 4 of one colour are ≥ 3 stencil reaches apart, while two fluid
+    /// neighbours of one wall particle are at most 2 apart.
+    const SETS: usize = 4;
+
+    fn new(n_wall: usize) -> Self {
+        let len = Self::SETS * n_wall;
+        WallScatter {
+            rho: vec![0.0; len],
+            kernel_sum: vec![0.0; len],
+            nearest_r2: vec![f64::INFINITY; len],
+            nearest: vec![u32::MAX; len],
+        }
+    }
+
+    /// Bytes held.
+    fn heap_bytes(&self) -> usize {
+        self.rho.len() * 28
+    }
+}
+
+/// Force pass (Eq. 8–16, as [`force_pass`]) on cell-sorted fluid arrays with the half lists
+/// of [`density_pass_sorted`]: the fluid pair term is antisymmetric (∇_j W_ji = −∇_i W_ij,
+/// every other factor symmetric in i and j), so each pair is evaluated once and added to i
+/// and subtracted from j.
+fn force_pass_sorted<const D: usize>(
+    grid: &CellGrid<D>,
+    blocks: &[u32],
+    c: &PassConstants,
+    fluid: &mut Fluid<D>,
+    walls: &Walls<D>,
+    body_force: Vector<D>,
+) {
+    let kernel = c.kernel;
+    let m = c.mass;
+    let h = kernel.h;
+    let eps_h2 = 0.01 * h * h; // φ of Eq. 11
+    let pos = &fluid.position;
+    let vel = &fluid.velocity;
+    let rho = &fluid.density;
+    let inv_rho = &fluid.inverse_density;
+    let p = &fluid.pressure;
+    let strain = &fluid.strain_rate;
+    let viscous = c.viscosity > 0.0;
+    let av_on = c.av_alpha > 0.0 || c.av_beta > 0.0;
+    // Eq. 10: Π_ij = (−α c̄ φ + β φ²)/ρ̄ for approaching pairs, 0 otherwise.
+    // Without a branch: a receding pair has φ = 0 and so Π = 0.
+    let artificial_viscosity = |vij: Vector<D>, xij: Vector<D>, r2: f64, rho_mean: f64| -> f64 {
+        let v_dot_x = vij.dot(&xij).min(0.0);
+        let phi = h * v_dot_x / (r2 + eps_h2); // Eq. 11
+        (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) / rho_mean
+    };
+    let lists = &fluid.neighbours;
+    let capacity = lists.capacity;
+    let wall_pos = &walls.position;
+    let wall_rho = &walls.density;
+    let wall_inv_rho = &walls.inverse_density;
+    let wall_p = &walls.pressure;
+    fluid
+        .acceleration
+        .par_iter_mut()
+        .with_min_len(PAR_CHUNK)
+        .for_each(|a| *a = body_force);
+    let acc_shared = SharedSlice::new(&mut fluid.acceleration);
+    colour_sweep(blocks, |_, begin, end| {
+        for i in begin..end {
+            let xi = pos[i];
+            let vi = vel[i];
+            let rho_i = rho[i];
+            let inv_rho_i = inv_rho[i];
+            let p_i = p[i];
+            let strain_i = strain[i];
+            let mut acc = Vector::<D>::zeros();
+            let fluid_term = |acc: &mut Vector<D>, j: usize| {
+                let xij = xi - pos[j];
+                let r2 = xij.norm_squared();
+                if r2 >= c.support_sq {
+                    return;
+                }
+                let r = r2.sqrt();
+                let grad_w = xij * kernel.gradient_factor(r);
+                let rho_j = rho[j];
+                let inv_rho_ij = inv_rho_i * inv_rho[j];
+                // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
+                let mut scalar = -(p_i + p[j]) * inv_rho_ij;
+                if av_on {
+                    scalar -= artificial_viscosity(vi - vel[j], xij, r2, 0.5 * (rho_i + rho_j));
+                }
+                let mut term = grad_w * (m * scalar);
+                if viscous {
+                    // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W.
+                    term += (strain_i + strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
+                }
+                *acc += term;
+                // SAFETY: j is in this block or the next (colour_blocks).
+                unsafe {
+                    *acc_shared.at(j) -= term;
+                }
+            };
+            let wall_term = |acc: &mut Vector<D>, w: usize| {
+                let xiw = xi - wall_pos[w];
+                let r2 = xiw.norm_squared();
+                if r2 >= c.support_sq {
+                    return;
+                }
+                let r = r2.sqrt();
+                let grad_w = xiw * kernel.gradient_factor(r);
+                let rho_w = wall_rho[w];
+                let inv_rho_iw = inv_rho_i * wall_inv_rho[w];
+                // Wall particles: σ_w = −p_w I (free slip: no viscous stress from the wall),
+                // velocity zero in the artificial viscosity.
+                let mut scalar = -(p_i + wall_p[w]) * inv_rho_iw;
+                if av_on {
+                    scalar -= artificial_viscosity(vi, xiw, r2, 0.5 * (rho_i + rho_w));
+                }
+                *acc += grad_w * (m * scalar);
+                if viscous {
+                    *acc += strain_i * grad_w * (m * c.viscosity * inv_rho_iw);
+                }
+            };
+            let count = lists.count[i];
+            if count != LIST_OVERFLOW {
+                for &entry in &lists.entries[i * capacity..i * capacity + count as usize] {
+                    if entry & WALL_NEIGHBOUR == 0 {
+                        fluid_term(&mut acc, entry as usize);
+                    } else {
+                        wall_term(&mut acc, (entry & !WALL_NEIGHBOUR) as usize);
+                    }
+                }
+            } else {
+                grid.for_each_forward_range(i, &xi, |j0, j1| {
+                    for j in j0..j1 {
+                        fluid_term(&mut acc, j);
+                    }
+                });
+                grid.for_each_wall_candidate(&xi, |w| wall_term(&mut acc, w));
+            }
+            // SAFETY: slot i belongs to this block.
+            unsafe {
+                *acc_shared.at(i) += acc;
+            }
+        }
+    });
+}
+
+/// Reorders `values` by `order` (new[k] = old[order[k]]) through a scratch buffer of the same
+/// length, in parallel.
+fn permute_par<T: Copy + Send + Sync>(values: &mut Vec<T>, order: &[u32], scratch: &mut Vec<T>) {
+    debug_assert_eq!(scratch.len(), values.len());
+    let source = &*values;
+    scratch
+        .par_iter_mut()
+        .zip(order.par_iter())
+        .with_min_len(4 * PAR_CHUNK)
+        .for_each(|(s, &o)| *s = source[o as usize]);
+    std::mem::swap(values, scratch);
 }
