@@ -336,6 +336,13 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
     } else {
         let mut all = stages;
         all.push((
+            "modern scheme: 50 s stability (paper §3.3)",
+            one(
+                "Modern scheme: 50 s stability (paper §3.3)",
+                modern::stability,
+            ),
+        ));
+        all.push((
             "3D: cylinder period, forced cylinder, box against 2D",
             Box::new(three_d::groups),
         ));
