@@ -548,12 +548,25 @@ fn roof_impact(ctx: &Context) -> GroupResult {
     g
 }
 
+/// What the 50 s run returns.
+struct StabilityRun {
+    /// Time reached (s).
+    end_time: f64,
+    /// Largest roof pressure (Pa), ±20-step window.
+    roof_peak: f64,
+    /// The "stayed inside" row.
+    inside: Check,
+    particle_steps: f64,
+    /// Mean fluid density (kg/m³) at the excitation start and at the end.
+    mean_density: (f64, f64),
+}
+
 /// The §3.3 case (1.0 m wide, H = 0.5 m, clearance 0.2 H, A = 0.0093 m at ω₁) run 50 s with the
 /// modern scheme (its own stage of the full suite).
 pub fn stability(ctx: &Context) -> GroupResult {
     let group = "Modern 50 s";
     let mut g = GroupResult::default();
-    let run = || -> anyhow::Result<(f64, f64, Check, f64, (f64, f64))> {
+    let run = || -> anyhow::Result<StabilityRun> {
         let tank_height = DEPTH * 1.2;
         let mut sim = rect_sim_with(
             SphParams::modern(),
@@ -596,10 +609,22 @@ pub fn stability(ctx: &Context) -> GroupResult {
             }
         }
         let densities = (density_at_start.unwrap_or(f64::NAN), mean_density(&sim));
-        Ok((sim.time(), roof_p, stayed_inside(group, &sim), steps, densities))
+        Ok(StabilityRun {
+            end_time: sim.time(),
+            roof_peak: roof_p,
+            inside: stayed_inside(group, &sim),
+            particle_steps: steps,
+            mean_density: densities,
+        })
     };
     match run() {
-        Ok((t, roof_p, inside, steps, (rho_start, rho_end))) => {
+        Ok(StabilityRun {
+            end_time: t,
+            roof_peak: roof_p,
+            inside,
+            particle_steps: steps,
+            mean_density: (rho_start, rho_end),
+        }) => {
             g.particle_steps = steps;
             g.checks.push(inside);
             g.checks.push(info_row(
