@@ -4,6 +4,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, Parser, Subcommand};
 use slosh_cli::{run_case, RunOptions};
 use slosh_script::{list_params, load_case, parse_set_value, CaseOptions};
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -292,13 +293,14 @@ fn cmd_theory(args: TheoryArgs) -> Result<()> {
         _ => bail!("a sine excitation needs both --amplitude and --omega"),
     }
     let report = tank_report(&input);
-    if args.ron {
-        println!(
-            "{}",
-            ron::ser::to_string_pretty(&report, ron::ser::PrettyConfig::default())?
-        );
+    let text = if args.ron {
+        ron::ser::to_string_pretty(&report, ron::ser::PrettyConfig::default())?
     } else {
-        println!("{report}");
+        report.to_string()
+    };
+    // A closed pipe (`slosh theory … | head`) ends the output quietly instead of panicking.
+    match writeln!(std::io::stdout().lock(), "{text}") {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+        _ => Ok(()),
     }
-    Ok(())
 }
