@@ -253,7 +253,7 @@ fn front_inner(
             reason: why.into(),
             verdict: if pass { Verdict::Pass } else { Verdict::Fail },
         };
-        g.checks.push(if scheme.label == "paper scheme" {
+        g.checks.push(if scheme.is_paper {
             check
         } else {
             open_if_failed(check, MODERN_DAMBREAK_GAP)
@@ -286,7 +286,7 @@ fn front_inner(
             data.iter().map(|p| p.1).collect(),
         ));
     }
-    let stem = if scheme.label == "paper scheme" {
+    let stem = if scheme.is_paper {
         "dambreak_front".to_string()
     } else {
         "dambreak_front_modern".to_string()

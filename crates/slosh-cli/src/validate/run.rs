@@ -82,6 +82,9 @@ pub struct Scheme {
     pub label: &'static str,
     /// Solver parameters.
     pub params: SphParams,
+    /// True for the paper's scheme: its rows are judged against the paper-scheme tolerances
+    /// and its plots keep the paper-case file names.
+    pub is_paper: bool,
 }
 
 impl Scheme {
@@ -90,6 +93,7 @@ impl Scheme {
         Scheme {
             label: "paper scheme",
             params: paper_params(),
+            is_paper: true,
         }
     }
     /// The modern preset (`SphParams::modern()`).
@@ -97,6 +101,7 @@ impl Scheme {
         Scheme {
             label: "modern scheme",
             params: SphParams::modern(),
+            is_paper: false,
         }
     }
 }
