@@ -343,8 +343,12 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             ),
         ));
         all.push((
-            "3D: cylinder period, forced cylinder, box against 2D",
-            Box::new(three_d::groups),
+            "3D: cylinder period, forced cylinder",
+            Box::new(three_d::cylinder_groups),
+        ));
+        all.push((
+            "3D box against 2D",
+            one("3D: thin box against the 2D code", three_d::box_vs_2d),
         ));
         all
     };

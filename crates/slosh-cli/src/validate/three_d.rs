@@ -26,8 +26,17 @@ use slosh_theory::natural::rectangular_period;
 /// staircase of the curved wall and the kernel smoothing of the surface are a few per cent.
 const PERIOD_TOL_3D: f64 = 0.03;
 /// 2D against 3D box: the same code in both dimensions; the box's side walls are free-slip
-/// Adami walls, so the two runs differ only by the kernel's dimension: 1.5 %.
+/// Adami walls, so the two runs differ only by the kernel's dimension and the side walls'
+/// particles: 1.5 %. Holds for a start of ≥ 2 dx at the wall ([`BOX_TILT`]); below ≈ 1 dx the
+/// SPH period of both runs is short by an amplitude-dependent amount, more in the 3-particle
+/// box (measured at dx = 0.025 m: 2D −1.1 %, 3D −3.0 % at 0.02 m; −0.5 % and −0.9 % at 0.05 m).
 const BOX_TOL: f64 = 0.015;
+/// Initial elevation at the wall of the box comparison (m): 0.1 H = 2 dx, the relative start of
+/// the 2D modern period check. At 0.02 m (0.8 dx) the surface is below one particle row: the
+/// lattice carries it as a one-row step (2D cut) or a dithered staircase (3D error diffusion),
+/// the two starts differ by 20 % in first-mode amplitude, and the small-amplitude bias of the
+/// period (larger in the thin box, which also damps more) made the 3D box 1.9 % short of 2D.
+const BOX_TILT: f64 = 0.05;
 /// Forced response: normalised RMS difference of the wall elevation and base shear against
 /// linear theory. Off resonance the response is linear and hardly damped; the windowed wall
 /// pressure and the gauge at 12 particles per radius carry ≈ 10–15 % noise: 25 %.
@@ -35,8 +44,9 @@ const FORCED_TOL: f64 = 0.25;
 /// Modes of the linear solution.
 const MODES: usize = 10;
 
-/// All 3D groups.
-pub fn groups(ctx: &Context) -> Vec<(String, GroupResult)> {
+/// The two cylinder groups (the thin box is its own stage, [`box_vs_2d`], so that
+/// `--only "3D box"` runs it alone).
+pub fn cylinder_groups(ctx: &Context) -> Vec<(String, GroupResult)> {
     vec![
         (
             "3D: cylinder free-sloshing period".into(),
@@ -46,7 +56,6 @@ pub fn groups(ctx: &Context) -> Vec<(String, GroupResult)> {
             "3D: cylinder forced response and base shear".into(),
             cylinder_forced(ctx),
         ),
-        ("3D: thin box against the 2D code".into(), box_vs_2d(ctx)),
     ]
 }
 
@@ -359,11 +368,11 @@ fn cylinder_forced_inner(ctx: &Context, group: &str) -> Result<GroupResult> {
 }
 
 /// A box 1.0 m long, 3 particles deep, against the 2D tank of the same section.
-fn box_vs_2d(ctx: &Context) -> GroupResult {
+pub fn box_vs_2d(ctx: &Context) -> GroupResult {
     let group = "3D box vs 2D";
     let mut g = GroupResult::default();
     let (width, depth, height, dx) = (1.0, 0.5, 0.7, 0.025);
-    let tilt = 0.02;
+    let tilt = BOX_TILT;
     let t1 = rectangular_period(width, depth, GRAVITY, 1);
     let run = || -> Result<(f64, f64, ComHistory, ComHistory, Check, f64)> {
         let setup3 = BoxTank::new(width, 3.0 * dx, height, depth)
@@ -406,8 +415,8 @@ fn box_vs_2d(ctx: &Context) -> GroupResult {
                 p2,
                 "s",
                 BOX_TOL,
-                "1.5 %: the same solver in 2D and 3D; free-slip side walls; only the \
-                 kernel's dimension differs",
+                "1.5 %: the same solver in 2D and 3D; free-slip side walls; the kernel's \
+                 dimension and the side walls' particles differ (start ≥ 2 dx, see notes)",
             ));
             g.checks.push(info_row(
                 group,
@@ -451,8 +460,11 @@ fn box_vs_2d(ctx: &Context) -> GroupResult {
     g.notes.push(format!(
         "Box {width} m long, {:.3} m (3 particles) deep, walled on all sides (free-slip Adami \
          walls), against the 2D tank of the same section; dx = {dx} m, first-mode start of \
-         {tilt} m.",
-        3.0 * dx
+         {tilt} m ({:.0} dx). Smaller starts are not a fair test: below ≈ 1 dx the SPH period \
+         depends on the amplitude (measured 3D/2D gap −1.9 % at 0.02 m, −0.3 % at 0.04 m) and \
+         the lattice represents the start differently in 2D and 3D.",
+        3.0 * dx,
+        tilt / dx
     ));
     g
 }
