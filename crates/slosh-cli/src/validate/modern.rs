@@ -570,7 +570,11 @@ fn roof_impact(ctx: &Context) -> GroupResult {
         ]
         .into_iter()
         .chain(shifted.as_ref().ok().map(|s| {
-            Series::line("modern scheme + particle shifting, instantaneous", &s.t, &s.raw)
+            Series::line(
+                "modern scheme + particle shifting, instantaneous",
+                &s.t,
+                &s.raw,
+            )
         }))
         .collect::<Vec<_>>(),
     );
