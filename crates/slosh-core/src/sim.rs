@@ -1500,11 +1500,12 @@ fn density_pass_sorted<const D: usize>(
                 // The candidates within the support are gathered in batches without a branch
                 // per candidate, then evaluated in a loop without unpredictable branches.
                 let mut process = |batch_j: &[u32], batch_r2: &[f64]| {
-                    for (&j, &r2) in batch_j.iter().zip(batch_r2) {
+                    let mut batch_w = [0.0f64; BATCH];
+                    let mut batch_f = [0.0f64; BATCH];
+                    kernel.values_and_gradient_factors(batch_r2, &mut batch_w, &mut batch_f);
+                    for ((&j, &w), &grad_factor) in batch_j.iter().zip(&batch_w).zip(&batch_f) {
                         let j = j as usize;
                         let xij = xi - pos[j];
-                        let r = r2.sqrt();
-                        let (w, grad_factor) = kernel.value_and_gradient_factor(r);
                         let volume_j = m * inv_rho[j];
                         let mw = m * w;
                         rho_sum += mw;
@@ -1688,11 +1689,21 @@ fn force_pass_sorted<const D: usize>(
     let viscous = c.viscosity > 0.0;
     let av_on = c.av_alpha > 0.0 || c.av_beta > 0.0;
     // Eq. 10: Π_ij = (−α c̄ φ + β φ²)/ρ̄ for approaching pairs, 0 otherwise.
-    // Without a branch: a receding pair has φ = 0 and so Π = 0.
-    let artificial_viscosity = |vij: Vector<D>, xij: Vector<D>, r2: f64, rho_mean: f64| -> f64 {
+    // Without a branch: a receding pair has φ = 0 and so Π = 0. One division per pair gives
+    // 1/r (the kernel gradient), 1/(r² + 0.01 h²) (Eq. 11) and 1/ρ̄: `inv` = 1/(r s (ρ_i + ρ_j))
+    // with s = r² + 0.01 h²; r is floored (far below the kernel's r = 0 cut-off) so that
+    // coincident particles give finite factors.
+    let pair_factors = |r2: f64, rho_pair: f64| -> (f64, f64, f64) {
+        let r = r2.sqrt().max(1e-150);
+        let s = r2 + eps_h2;
+        let inv = 1.0 / (r * s * rho_pair);
+        let grad_factor = kernel.gradient_factor_with_inverse(r, inv * (s * rho_pair));
+        (grad_factor, inv * (r * rho_pair), inv * (2.0 * r * s))
+    };
+    let artificial_viscosity = |vij: Vector<D>, xij: Vector<D>, inv_s: f64, inv_rho_mean: f64| {
         let v_dot_x = vij.dot(&xij).min(0.0);
-        let phi = h * v_dot_x / (r2 + eps_h2); // Eq. 11
-        (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) / rho_mean
+        let phi = h * v_dot_x * inv_s; // Eq. 11
+        (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) * inv_rho_mean
     };
     let lists = &fluid.neighbours;
     let capacity = lists.capacity;
@@ -1721,14 +1732,13 @@ fn force_pass_sorted<const D: usize>(
                 if r2 >= c.support_sq {
                     return;
                 }
-                let r = r2.sqrt();
-                let grad_w = xij * kernel.gradient_factor(r);
-                let rho_j = rho[j];
+                let (grad_factor, inv_s, inv_rho_mean) = pair_factors(r2, rho_i + rho[j]);
+                let grad_w = xij * grad_factor;
                 let inv_rho_ij = inv_rho_i * inv_rho[j];
                 // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
                 let mut scalar = -(p_i + p[j]) * inv_rho_ij;
                 if av_on {
-                    scalar -= artificial_viscosity(vi - vel[j], xij, r2, 0.5 * (rho_i + rho_j));
+                    scalar -= artificial_viscosity(vi - vel[j], xij, inv_s, inv_rho_mean);
                 }
                 let mut term = grad_w * (m * scalar);
                 if viscous {
@@ -1747,15 +1757,14 @@ fn force_pass_sorted<const D: usize>(
                 if r2 >= c.support_sq {
                     return;
                 }
-                let r = r2.sqrt();
-                let grad_w = xiw * kernel.gradient_factor(r);
-                let rho_w = wall_rho[w];
+                let (grad_factor, inv_s, inv_rho_mean) = pair_factors(r2, rho_i + wall_rho[w]);
+                let grad_w = xiw * grad_factor;
                 let inv_rho_iw = inv_rho_i * wall_inv_rho[w];
                 // Wall particles: σ_w = −p_w I (free slip: no viscous stress from the wall),
                 // velocity zero in the artificial viscosity.
                 let mut scalar = -(p_i + wall_p[w]) * inv_rho_iw;
                 if av_on {
-                    scalar -= artificial_viscosity(vi, xiw, r2, 0.5 * (rho_i + rho_w));
+                    scalar -= artificial_viscosity(vi, xiw, inv_s, inv_rho_mean);
                 }
                 *acc += grad_w * (m * scalar);
                 if viscous {
