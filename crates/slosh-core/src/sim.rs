@@ -1664,6 +1664,114 @@ impl WallScatter {
     }
 }
 
+/// What the sorted force sweep reads, gathered so that its pair terms can be functions that
+/// are always inlined (closures called from two places are not, and a call per pair costs
+/// as much as the pair's arithmetic).
+struct ForceSweep<'a, const D: usize> {
+    c: PassConstants,
+    /// 0.01 h² of Eq. 11.
+    eps_h2: f64,
+    viscous: bool,
+    av_on: bool,
+    pos: &'a [Vector<D>],
+    vel: &'a [Vector<D>],
+    rho: &'a [f64],
+    inv_rho: &'a [f64],
+    p: &'a [f64],
+    strain: &'a [Tensor<D>],
+    wall_pos: &'a [Vector<D>],
+    wall_rho: &'a [f64],
+    wall_inv_rho: &'a [f64],
+    wall_p: &'a [f64],
+}
+
+/// The particle i of a row of pairs in the force sweep.
+struct ForceOwner<const D: usize> {
+    x: Vector<D>,
+    v: Vector<D>,
+    rho: f64,
+    inv_rho: f64,
+    p: f64,
+    strain: Tensor<D>,
+}
+
+impl<const D: usize> ForceSweep<'_, D> {
+    /// 1/r (the kernel gradient), 1/(r² + 0.01 h²) (Eq. 11) and 1/ρ̄ of a pair at squared
+    /// distance r2 with ρ_i + ρ_j = rho_pair, from one division: `inv` = 1/(r s (ρ_i + ρ_j))
+    /// with s = r² + 0.01 h². r is floored (far below the kernel's r = 0 cut-off) so that
+    /// coincident particles give finite factors. Returns (∇W factor, 1/s, 1/ρ̄).
+    #[inline(always)]
+    fn pair_factors(&self, r2: f64, rho_pair: f64) -> (f64, f64, f64) {
+        let r = r2.sqrt().max(1e-150);
+        let s = r2 + self.eps_h2;
+        let inv = 1.0 / (r * s * rho_pair);
+        let grad_factor = self
+            .c
+            .kernel
+            .gradient_factor_with_inverse(r, inv * (s * rho_pair));
+        (grad_factor, inv * (r * rho_pair), inv * (2.0 * r * s))
+    }
+
+    /// Eq. 10: Π_ij = (−α c̄ φ + β φ²)/ρ̄ for approaching pairs, 0 otherwise. Without a
+    /// branch: a receding pair has φ = 0 and so Π = 0.
+    #[inline(always)]
+    fn artificial_viscosity(
+        &self,
+        vij: Vector<D>,
+        xij: Vector<D>,
+        inv_s: f64,
+        inv_rho_mean: f64,
+    ) -> f64 {
+        let c = &self.c;
+        let v_dot_x = vij.dot(&xij).min(0.0);
+        let phi = c.kernel.h * v_dot_x * inv_s; // Eq. 11
+        (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) * inv_rho_mean
+    }
+
+    /// The acceleration of i from fluid particle j within the support (Eq. 8–9): added to i,
+    /// subtracted from j.
+    #[inline(always)]
+    fn fluid_term(&self, o: &ForceOwner<D>, j: usize, xij: Vector<D>, r2: f64) -> Vector<D> {
+        let c = &self.c;
+        let m = c.mass;
+        let (grad_factor, inv_s, inv_rho_mean) = self.pair_factors(r2, o.rho + self.rho[j]);
+        let grad_w = xij * grad_factor;
+        let inv_rho_ij = o.inv_rho * self.inv_rho[j];
+        // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
+        let mut scalar = -(o.p + self.p[j]) * inv_rho_ij;
+        if self.av_on {
+            scalar -= self.artificial_viscosity(o.v - self.vel[j], xij, inv_s, inv_rho_mean);
+        }
+        let mut term = grad_w * (m * scalar);
+        if self.viscous {
+            // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W.
+            term += (o.strain + self.strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
+        }
+        term
+    }
+
+    /// The acceleration of i from wall particle w within the support.
+    #[inline(always)]
+    fn wall_term(&self, o: &ForceOwner<D>, w: usize, xiw: Vector<D>, r2: f64) -> Vector<D> {
+        let c = &self.c;
+        let m = c.mass;
+        let (grad_factor, inv_s, inv_rho_mean) = self.pair_factors(r2, o.rho + self.wall_rho[w]);
+        let grad_w = xiw * grad_factor;
+        let inv_rho_iw = o.inv_rho * self.wall_inv_rho[w];
+        // Wall particles: σ_w = −p_w I (free slip: no viscous stress from the wall),
+        // velocity zero in the artificial viscosity.
+        let mut scalar = -(o.p + self.wall_p[w]) * inv_rho_iw;
+        if self.av_on {
+            scalar -= self.artificial_viscosity(o.v, xiw, inv_s, inv_rho_mean);
+        }
+        let mut term = grad_w * (m * scalar);
+        if self.viscous {
+            term += o.strain * grad_w * (m * c.viscosity * inv_rho_iw);
+        }
+        term
+    }
+}
+
 /// Force pass (Eq. 8–16, as [`force_pass`]) on cell-sorted fluid arrays with the half lists
 /// of [`density_pass_sorted`]: the fluid pair term is antisymmetric (∇_j W_ji = −∇_i W_ij,
 /// every other factor symmetric in i and j), so each pair is evaluated once and added to i
@@ -1676,41 +1784,27 @@ fn force_pass_sorted<const D: usize>(
     walls: &Walls<D>,
     body_force: Vector<D>,
 ) {
-    let kernel = c.kernel;
-    let m = c.mass;
-    let h = kernel.h;
-    let eps_h2 = 0.01 * h * h; // φ of Eq. 11
-    let pos = &fluid.position;
-    let vel = &fluid.velocity;
-    let rho = &fluid.density;
-    let inv_rho = &fluid.inverse_density;
-    let p = &fluid.pressure;
-    let strain = &fluid.strain_rate;
-    let viscous = c.viscosity > 0.0;
-    let av_on = c.av_alpha > 0.0 || c.av_beta > 0.0;
-    // Eq. 10: Π_ij = (−α c̄ φ + β φ²)/ρ̄ for approaching pairs, 0 otherwise.
-    // Without a branch: a receding pair has φ = 0 and so Π = 0. One division per pair gives
-    // 1/r (the kernel gradient), 1/(r² + 0.01 h²) (Eq. 11) and 1/ρ̄: `inv` = 1/(r s (ρ_i + ρ_j))
-    // with s = r² + 0.01 h²; r is floored (far below the kernel's r = 0 cut-off) so that
-    // coincident particles give finite factors.
-    let pair_factors = |r2: f64, rho_pair: f64| -> (f64, f64, f64) {
-        let r = r2.sqrt().max(1e-150);
-        let s = r2 + eps_h2;
-        let inv = 1.0 / (r * s * rho_pair);
-        let grad_factor = kernel.gradient_factor_with_inverse(r, inv * (s * rho_pair));
-        (grad_factor, inv * (r * rho_pair), inv * (2.0 * r * s))
+    let h = c.kernel.h;
+    let sweep = ForceSweep {
+        c: *c,
+        eps_h2: 0.01 * h * h, // φ of Eq. 11
+        viscous: c.viscosity > 0.0,
+        av_on: c.av_alpha > 0.0 || c.av_beta > 0.0,
+        pos: &fluid.position,
+        vel: &fluid.velocity,
+        rho: &fluid.density,
+        inv_rho: &fluid.inverse_density,
+        p: &fluid.pressure,
+        strain: &fluid.strain_rate,
+        wall_pos: &walls.position,
+        wall_rho: &walls.density,
+        wall_inv_rho: &walls.inverse_density,
+        wall_p: &walls.pressure,
     };
-    let artificial_viscosity = |vij: Vector<D>, xij: Vector<D>, inv_s: f64, inv_rho_mean: f64| {
-        let v_dot_x = vij.dot(&xij).min(0.0);
-        let phi = h * v_dot_x * inv_s; // Eq. 11
-        (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) * inv_rho_mean
-    };
-    let lists = &fluid.neighbours;
-    let capacity = lists.capacity;
-    let wall_pos = &walls.position;
-    let wall_rho = &walls.density;
-    let wall_inv_rho = &walls.inverse_density;
-    let wall_p = &walls.pressure;
+    let support_sq = c.support_sq;
+    let capacity = fluid.neighbours.capacity;
+    let list_entries = fluid.neighbours.entries.as_slice();
+    let list_count = fluid.neighbours.count.as_slice();
     fluid
         .acceleration
         .par_iter_mut()
@@ -1718,75 +1812,61 @@ fn force_pass_sorted<const D: usize>(
         .for_each(|a| *a = body_force);
     let acc_shared = SharedSlice::new(&mut fluid.acceleration);
     colour_sweep(blocks, |_, begin, end| {
+        let s = &sweep;
+        let (pos, wall_pos) = (s.pos, s.wall_pos);
         for i in begin..end {
-            let xi = pos[i];
-            let vi = vel[i];
-            let rho_i = rho[i];
-            let inv_rho_i = inv_rho[i];
-            let p_i = p[i];
-            let strain_i = strain[i];
+            let o = ForceOwner {
+                x: pos[i],
+                v: s.vel[i],
+                rho: s.rho[i],
+                inv_rho: s.inv_rho[i],
+                p: s.p[i],
+                strain: s.strain[i],
+            };
+            let xi = o.x;
             let mut acc = Vector::<D>::zeros();
-            let fluid_term = |acc: &mut Vector<D>, j: usize| {
-                let xij = xi - pos[j];
-                let r2 = xij.norm_squared();
-                if r2 >= c.support_sq {
-                    return;
-                }
-                let (grad_factor, inv_s, inv_rho_mean) = pair_factors(r2, rho_i + rho[j]);
-                let grad_w = xij * grad_factor;
-                let inv_rho_ij = inv_rho_i * inv_rho[j];
-                // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
-                let mut scalar = -(p_i + p[j]) * inv_rho_ij;
-                if av_on {
-                    scalar -= artificial_viscosity(vi - vel[j], xij, inv_s, inv_rho_mean);
-                }
-                let mut term = grad_w * (m * scalar);
-                if viscous {
-                    // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W.
-                    term += (strain_i + strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
-                }
-                *acc += term;
-                // SAFETY: j is in this block or the next (colour_blocks).
-                unsafe {
-                    *acc_shared.at(j) -= term;
-                }
-            };
-            let wall_term = |acc: &mut Vector<D>, w: usize| {
-                let xiw = xi - wall_pos[w];
-                let r2 = xiw.norm_squared();
-                if r2 >= c.support_sq {
-                    return;
-                }
-                let (grad_factor, inv_s, inv_rho_mean) = pair_factors(r2, rho_i + wall_rho[w]);
-                let grad_w = xiw * grad_factor;
-                let inv_rho_iw = inv_rho_i * wall_inv_rho[w];
-                // Wall particles: σ_w = −p_w I (free slip: no viscous stress from the wall),
-                // velocity zero in the artificial viscosity.
-                let mut scalar = -(p_i + wall_p[w]) * inv_rho_iw;
-                if av_on {
-                    scalar -= artificial_viscosity(vi, xiw, inv_s, inv_rho_mean);
-                }
-                *acc += grad_w * (m * scalar);
-                if viscous {
-                    *acc += strain_i * grad_w * (m * c.viscosity * inv_rho_iw);
-                }
-            };
-            let count = lists.count[i];
+            let count = list_count[i];
             if count != LIST_OVERFLOW {
-                for &entry in &lists.entries[i * capacity..i * capacity + count as usize] {
+                // The listed pairs are within the support (tested by the density sweep on
+                // the same positions).
+                for &entry in &list_entries[i * capacity..i * capacity + count as usize] {
                     if entry & WALL_NEIGHBOUR == 0 {
-                        fluid_term(&mut acc, entry as usize);
+                        let j = entry as usize;
+                        let xij = xi - pos[j];
+                        let term = s.fluid_term(&o, j, xij, xij.norm_squared());
+                        acc += term;
+                        // SAFETY: j is in this block or the next (colour_blocks).
+                        unsafe {
+                            *acc_shared.at(j) -= term;
+                        }
                     } else {
-                        wall_term(&mut acc, (entry & !WALL_NEIGHBOUR) as usize);
+                        let w = (entry & !WALL_NEIGHBOUR) as usize;
+                        let xiw = xi - wall_pos[w];
+                        acc += s.wall_term(&o, w, xiw, xiw.norm_squared());
                     }
                 }
             } else {
                 grid.for_each_forward_range(i, &xi, |j0, j1| {
                     for j in j0..j1 {
-                        fluid_term(&mut acc, j);
+                        let xij = xi - pos[j];
+                        let r2 = xij.norm_squared();
+                        if r2 < support_sq {
+                            let term = s.fluid_term(&o, j, xij, r2);
+                            acc += term;
+                            // SAFETY: as above.
+                            unsafe {
+                                *acc_shared.at(j) -= term;
+                            }
+                        }
                     }
                 });
-                grid.for_each_wall_candidate(&xi, |w| wall_term(&mut acc, w));
+                grid.for_each_wall_candidate(&xi, |w| {
+                    let xiw = xi - wall_pos[w];
+                    let r2 = xiw.norm_squared();
+                    if r2 < support_sq {
+                        acc += s.wall_term(&o, w, xiw, r2);
+                    }
+                });
             }
             // SAFETY: slot i belongs to this block.
             unsafe {
