@@ -243,11 +243,13 @@ impl<const D: usize> CellGrid<D> {
             if ok {
                 let row = base * self.dims[0];
                 let end = starts[row + x_hi + 1] as usize;
-                if first {
-                    visit(i + 1, end);
+                // One call site, so that the compiler inlines `visit`.
+                let begin = if first {
+                    i + 1
                 } else {
-                    visit(starts[row + x_lo] as usize, end);
-                }
+                    starts[row + x_lo] as usize
+                };
+                visit(begin, end);
             }
             first = false;
             // Advance the odometer over axes 1..D.

@@ -1443,6 +1443,75 @@ fn colour_sweep<F: Fn(usize, usize, usize) + Sync>(bounds: &[u32], block: F) {
     }
 }
 
+/// What the fluid pairs of the sorted density sweep read and write, so that the batch
+/// evaluation can be an always-inlined method (a closure called from two places is compiled
+/// as a function, with its sums in memory).
+struct DensitySweep<'a, const D: usize> {
+    kernel: Kernel,
+    m: f64,
+    pos: &'a [Vector<D>],
+    vel: &'a [Vector<D>],
+    inv_rho: &'a [f64],
+    rho_acc: &'a SharedSlice<f64>,
+    ksum_acc: &'a SharedSlice<f64>,
+    grad_acc: &'a SharedSlice<Tensor<D>>,
+}
+
+/// The running sums of one particle in the sorted density sweep, and its list's fill.
+struct DensitySums<const D: usize> {
+    rho: f64,
+    kernel_sum: f64,
+    grad_v: Tensor<D>,
+    listed: usize,
+    overflow: bool,
+}
+
+impl<const D: usize> DensitySweep<'_, D> {
+    /// Evaluates a batch of fluid pairs (i, j) within the support, `owner` = (x_i, v_i,
+    /// m/ρ_i), in a loop without unpredictable branches: adds them to i's `sums` and to j's
+    /// accumulators, and appends the j to i's list.
+    #[inline(always)]
+    fn batch(
+        &self,
+        (xi, vi, volume_i): (Vector<D>, Vector<D>, f64),
+        batch_j: &[u32],
+        batch_r2: &[f64],
+        list: &mut [u32],
+        sums: &mut DensitySums<D>,
+    ) {
+        let m = self.m;
+        let mut batch_w = [0.0f64; BATCH];
+        let mut batch_f = [0.0f64; BATCH];
+        self.kernel
+            .values_and_gradient_factors(batch_r2, &mut batch_w, &mut batch_f);
+        let (mut rho_sum, mut kernel_sum, mut grad_v) = (sums.rho, sums.kernel_sum, sums.grad_v);
+        for ((&j, &w), &grad_factor) in batch_j.iter().zip(&batch_w).zip(&batch_f) {
+            let j = j as usize;
+            let xij = xi - self.pos[j];
+            let volume_j = m * self.inv_rho[j];
+            let mw = m * w;
+            rho_sum += mw;
+            kernel_sum += volume_j * w;
+            // (v_j − v_i) ⊗ ∇_i W_ij; for j the pair gives (v_i − v_j) ⊗ ∇_j W_ji, the same
+            // tensor.
+            let outer = (self.vel[j] - vi) * (xij * grad_factor).transpose();
+            grad_v += outer * volume_j;
+            // SAFETY: j is in this block or the next (colour_blocks).
+            unsafe {
+                *self.rho_acc.at(j) += mw;
+                *self.ksum_acc.at(j) += volume_i * w;
+                *self.grad_acc.at(j) += outer * volume_i;
+            }
+        }
+        (sums.rho, sums.kernel_sum, sums.grad_v) = (rho_sum, kernel_sum, grad_v);
+        let listed = sums.listed;
+        let room = batch_j.len().min(list.len() - listed);
+        list[listed..listed + room].copy_from_slice(&batch_j[..room]);
+        sums.listed += room;
+        sums.overflow |= room < batch_j.len();
+    }
+}
+
 /// Density pass (Eq. 19, 20, 18, 5) on cell-sorted fluid arrays: each fluid pair is
 /// evaluated once, from the particle that finds the other in its forward half stencil, and
 /// adds to both. Fills the half neighbour lists (forward fluid neighbours and all wall
@@ -1482,6 +1551,16 @@ fn density_pass_sorted<const D: usize>(
         let wall_ksum_acc = SharedSlice::new(&mut scatter.kernel_sum);
         let wall_near_r2 = SharedSlice::new(&mut scatter.nearest_r2);
         let wall_near = SharedSlice::new(&mut scatter.nearest);
+        let sweep = DensitySweep {
+            kernel,
+            m,
+            pos,
+            vel,
+            inv_rho,
+            rho_acc: &rho_acc,
+            ksum_acc: &ksum_acc,
+            grad_acc: &grad_acc,
+        };
         colour_sweep(blocks, |b, begin, end| {
             // This block's set of wall sums (see WallScatter).
             let set = (b % WallScatter::SETS) * n_wall;
@@ -1491,41 +1570,18 @@ fn density_pass_sorted<const D: usize>(
                 let volume_i = m * inv_rho[i];
                 // SAFETY: slot i's list belongs to the block that owns slot i.
                 let list = unsafe { entries.slice(i * capacity, capacity) };
-                let mut listed = 0usize;
-                let mut overflow = false;
                 // The particle itself (r = 0, no gradient).
-                let mut rho_sum = m * w0;
-                let mut kernel_sum = volume_i * w0;
-                let mut grad_v = Tensor::<D>::zeros();
-                // The candidates within the support are gathered in batches without a branch
-                // per candidate, then evaluated in a loop without unpredictable branches.
-                let mut process = |batch_j: &[u32], batch_r2: &[f64]| {
-                    let mut batch_w = [0.0f64; BATCH];
-                    let mut batch_f = [0.0f64; BATCH];
-                    kernel.values_and_gradient_factors(batch_r2, &mut batch_w, &mut batch_f);
-                    for ((&j, &w), &grad_factor) in batch_j.iter().zip(&batch_w).zip(&batch_f) {
-                        let j = j as usize;
-                        let xij = xi - pos[j];
-                        let volume_j = m * inv_rho[j];
-                        let mw = m * w;
-                        rho_sum += mw;
-                        kernel_sum += volume_j * w;
-                        // (v_j − v_i) ⊗ ∇_i W_ij; for j the pair gives (v_i − v_j) ⊗ ∇_j W_ji,
-                        // the same tensor.
-                        let outer = (vel[j] - vi) * (xij * grad_factor).transpose();
-                        grad_v += outer * volume_j;
-                        // SAFETY: j is in this block or the next (colour_blocks).
-                        unsafe {
-                            *rho_acc.at(j) += mw;
-                            *ksum_acc.at(j) += volume_i * w;
-                            *grad_acc.at(j) += outer * volume_i;
-                        }
-                    }
-                    let room = batch_j.len().min(capacity - listed);
-                    list[listed..listed + room].copy_from_slice(&batch_j[..room]);
-                    listed += room;
-                    overflow |= room < batch_j.len();
+                let rho_sum = m * w0;
+                let kernel_sum = volume_i * w0;
+                let grad_v = Tensor::<D>::zeros();
+                let mut sums = DensitySums {
+                    rho: rho_sum,
+                    kernel_sum,
+                    grad_v,
+                    listed: 0,
+                    overflow: false,
                 };
+                let owner = (xi, vi, volume_i);
                 let mut batch_j = [0u32; BATCH];
                 let mut batch_r2 = [0.0f64; BATCH];
                 let mut batched = 0usize;
@@ -1536,12 +1592,25 @@ fn density_pass_sorted<const D: usize>(
                         batch_r2[batched] = r2;
                         batched += (r2 < c.support_sq) as usize;
                         if batched == BATCH {
-                            process(&batch_j, &batch_r2);
+                            sweep.batch(owner, &batch_j, &batch_r2, list, &mut sums);
                             batched = 0;
                         }
                     }
                 });
-                process(&batch_j[..batched], &batch_r2[..batched]);
+                sweep.batch(
+                    owner,
+                    &batch_j[..batched],
+                    &batch_r2[..batched],
+                    list,
+                    &mut sums,
+                );
+                let DensitySums {
+                    rho: mut rho_sum,
+                    mut kernel_sum,
+                    grad_v,
+                    mut listed,
+                    mut overflow,
+                } = sums;
                 grid.for_each_wall_candidate(&xi, |w_idx| {
                     let xiw = xi - wall_pos[w_idx];
                     let r2 = xiw.norm_squared();
