@@ -57,6 +57,11 @@ pub struct NeighbourLists {
     capacity: usize,
     entries: Vec<u32>,
     count: Vec<u16>,
+    /// Sorted sweeps: where each particle's list starts in `entries`. The lists of a sweep
+    /// block are packed one after the other in the block's share of `entries` (its particles
+    /// × capacity), so the force sweep reads them as one stream; empty for the other passes,
+    /// whose lists start at i × capacity.
+    start: Vec<u32>,
 }
 
 impl NeighbourLists {
@@ -66,12 +71,13 @@ impl NeighbourLists {
             capacity,
             entries: vec![0; n * capacity],
             count: vec![LIST_OVERFLOW; n],
+            start: Vec::new(),
         }
     }
 
     /// Bytes held by the lists.
     pub fn heap_bytes(&self) -> usize {
-        self.entries.len() * 4 + self.count.len() * 2
+        self.entries.len() * 4 + self.count.len() * 2 + self.start.len() * 4
     }
 }
 
@@ -485,6 +491,7 @@ impl<const D: usize> Simulation<D> {
         }
         if sim.sorted_every_step {
             sim.wall_scatter = WallScatter::new(n_wall);
+            sim.fluid.neighbours.start = vec![0; n];
             sim.scratch_vec2 = vec![Vector::<D>::zeros(); n];
             sim.sort_and_index();
         } else if sim.modern.is_some() && matches!(sim.search, Search::Grid(_)) {
@@ -1547,6 +1554,7 @@ fn density_pass_sorted<const D: usize>(
         let grad_acc = SharedSlice::new(&mut fluid.strain_rate);
         let entries = SharedSlice::new(&mut fluid.neighbours.entries);
         let counts = SharedSlice::new(&mut fluid.neighbours.count);
+        let starts = SharedSlice::new(&mut fluid.neighbours.start);
         let wall_rho_acc = SharedSlice::new(&mut scatter.rho);
         let wall_ksum_acc = SharedSlice::new(&mut scatter.kernel_sum);
         let wall_near_r2 = SharedSlice::new(&mut scatter.nearest_r2);
@@ -1564,12 +1572,17 @@ fn density_pass_sorted<const D: usize>(
         colour_sweep(blocks, |b, begin, end| {
             // This block's set of wall sums (see WallScatter).
             let set = (b % WallScatter::SETS) * n_wall;
+            // The block's lists are packed from the start of its share of the entries; a
+            // particle always has room for `capacity` entries (those before it used at most
+            // as many each).
+            let mut cursor = begin * capacity;
             for i in begin..end {
                 let xi = pos[i];
                 let vi = vel[i];
                 let volume_i = m * inv_rho[i];
-                // SAFETY: slot i's list belongs to the block that owns slot i.
-                let list = unsafe { entries.slice(i * capacity, capacity) };
+                // SAFETY: entries begin·capacity..end·capacity belong to this block, and
+                // cursor + capacity ≤ (i + 1)·capacity.
+                let list = unsafe { entries.slice(cursor, capacity) };
                 // The particle itself (r = 0, no gradient).
                 let rho_sum = m * w0;
                 let kernel_sum = volume_i * w0;
@@ -1646,10 +1659,12 @@ fn density_pass_sorted<const D: usize>(
                     } else {
                         listed as u16
                     };
+                    *starts.at(i) = cursor as u32;
                     *rho_acc.at(i) += rho_sum;
                     *ksum_acc.at(i) += kernel_sum;
                     *grad_acc.at(i) += grad_v;
                 }
+                cursor += listed;
             }
         });
     }
@@ -1871,9 +1886,9 @@ fn force_pass_sorted<const D: usize>(
         wall_p: &walls.pressure,
     };
     let support_sq = c.support_sq;
-    let capacity = fluid.neighbours.capacity;
     let list_entries = fluid.neighbours.entries.as_slice();
     let list_count = fluid.neighbours.count.as_slice();
+    let list_start = fluid.neighbours.start.as_slice();
     fluid
         .acceleration
         .par_iter_mut()
@@ -1898,7 +1913,8 @@ fn force_pass_sorted<const D: usize>(
             if count != LIST_OVERFLOW {
                 // The listed pairs are within the support (tested by the density sweep on
                 // the same positions).
-                for &entry in &list_entries[i * capacity..i * capacity + count as usize] {
+                let first = list_start[i] as usize;
+                for &entry in &list_entries[first..first + count as usize] {
                     if entry & WALL_NEIGHBOUR == 0 {
                         let j = entry as usize;
                         let xij = xi - pos[j];
