@@ -1932,8 +1932,8 @@ fn force_pass_sorted<const D: usize>(
                 }
             } else {
                 grid.for_each_forward_range(i, &xi, |j0, j1| {
-                    for j in j0..j1 {
-                        let xij = xi - pos[j];
+                    for (j, xj) in (j0..j1).zip(&pos[j0..j1]) {
+                        let xij = xi - xj;
                         let r2 = xij.norm_squared();
                         if r2 < support_sq {
                             let term = s.fluid_term(&o, j, xij, r2);
