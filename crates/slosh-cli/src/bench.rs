@@ -458,7 +458,7 @@ fn phase_delta(a: PhaseTimes, b: PhaseTimes) -> PhaseTimes {
 /// `private` is an estimate, from the layout of `sim.rs` and `neighbours.rs` at the time of
 /// writing, of what the API does not show: the solver's scratch buffers (one vector, f64,
 /// tensor, 2 × u32 and next-density per fluid particle, next-density per wall particle) and
-/// the neighbour structures (grid: search + sort grids, entries and cell starts; kd-tree:
+/// the neighbour structures (grid: search + sort grids, entries, cell starts and wall flags; kd-tree:
 /// the trees, their scratch copy and the sort grid). Small fixed-size parts are ignored.
 #[derive(Clone, Copy, Debug)]
 pub struct SolverBytes {
@@ -523,9 +523,9 @@ impl SolverBytes {
             }
             cells *= ((ext / support).ceil() as usize).max(1) + 1;
         }
-        let sort_grid = 2 * (cells + 1) * 4 + n * 8;
+        let sort_grid = 2 * (cells + 1) * 4 + cells + n * 8;
         let search = match sim.params().neighbour_backend {
-            NeighbourBackend::CellGrid => 2 * (cells + 1) * 4 + n * 8 + nw * 4,
+            NeighbourBackend::CellGrid => 2 * (cells + 1) * 4 + cells + n * 8 + nw * 4,
             // ImmutableKdTree<f64, D>: D coordinates + u32 item per point, plus the fluid
             // tree's scratch copy of the positions.
             NeighbourBackend::KdTree => (n + nw) * (vec + 4) + n * vec,

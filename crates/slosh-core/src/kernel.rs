@@ -75,27 +75,57 @@ impl Kernel {
         self.factor_from(self.shape(q).1, q, r)
     }
 
+    /// (dW/dr)/r as [`Self::gradient_factor`], with 1/r given by the caller (who may get it
+    /// from a division it needs anyway); 0 at r = 0 whatever `inv_r` is.
+    #[inline(always)]
+    pub fn gradient_factor_with_inverse(&self, r: f64, inv_r: f64) -> f64 {
+        let q = r * self.inv_h;
+        let d_dq = self.shape(q).1;
+        if q > 1e-12 {
+            self.norm * d_dq * self.inv_h * inv_r
+        } else {
+            0.0
+        }
+    }
+
+    /// W and (dW/dr)/r at the distances √r2[k], into w[k] and f[k] (the first r2.len()
+    /// entries), equal to [`Self::value_and_gradient_factor`] of each: one loop per kernel
+    /// kind, without branches, which the compiler turns into vector instructions (square roots
+    /// and divisions two or more at a time).
+    #[inline(always)]
+    pub fn values_and_gradient_factors(&self, r2: &[f64], w: &mut [f64], f: &mut [f64]) {
+        let n = r2.len();
+        let (w, f) = (&mut w[..n], &mut f[..n]);
+        match self.kind {
+            KernelKind::CubicSpline => {
+                for k in 0..n {
+                    let r = r2[k].sqrt();
+                    let q = r * self.inv_h;
+                    let (shape, d_dq) = cubic_spline_shape(q);
+                    w[k] = self.norm * shape;
+                    f[k] = self.factor_from(d_dq, q, r);
+                }
+            }
+            KernelKind::WendlandC2 => {
+                for k in 0..n {
+                    let r = r2[k].sqrt();
+                    let q = r * self.inv_h;
+                    let (shape, d_dq) = wendland_c2_shape(q);
+                    w[k] = self.norm * shape;
+                    f[k] = self.factor_from(d_dq, q, r);
+                }
+            }
+        }
+    }
+
     /// The dimensionless shape f(q) (W = norm · f) and its derivative df/dq, without branches
     /// on q: the pair loops see q < 1 and q > 1 about equally often, in no order a branch
     /// predictor could follow.
     #[inline(always)]
     fn shape(&self, q: f64) -> (f64, f64) {
         match self.kind {
-            // f = 1 − 3q²/2 + 3q³/4 for q < 1, (2 − q)³/4 for 1 ≤ q < 2, 0 beyond; with
-            // t = max(2 − q, 0) and u = max(1 − q, 0) this is f = t³/4 − u³, and
-            // df/dq = 3u² − 3t²/4 (= −3q + 9q²/4 for q < 1, −3(2 − q)²/4 for 1 ≤ q < 2).
-            KernelKind::CubicSpline => {
-                let t = (2.0 - q).max(0.0);
-                let u = (1.0 - q).max(0.0);
-                (0.25 * t * t * t - u * u * u, 3.0 * u * u - 0.75 * t * t)
-            }
-            // f = (1 − q/2)^4 (2q + 1); d/dq [(1 − q/2)^4 (2q + 1)] = −5 q (1 − q/2)^3; 0 beyond
-            // q = 2.
-            KernelKind::WendlandC2 => {
-                let t = (1.0 - 0.5 * q).max(0.0);
-                let t2 = t * t;
-                (t2 * t2 * (2.0 * q + 1.0), -5.0 * q * t2 * t)
-            }
+            KernelKind::CubicSpline => cubic_spline_shape(q),
+            KernelKind::WendlandC2 => wendland_c2_shape(q),
         }
     }
 
@@ -108,6 +138,25 @@ impl Kernel {
             0.0
         }
     }
+}
+
+/// Cubic spline: f = 1 − 3q²/2 + 3q³/4 for q < 1, (2 − q)³/4 for 1 ≤ q < 2, 0 beyond; with
+/// t = max(2 − q, 0) and u = max(1 − q, 0) this is f = t³/4 − u³, and df/dq = 3u² − 3t²/4
+/// (= −3q + 9q²/4 for q < 1, −3(2 − q)²/4 for 1 ≤ q < 2).
+#[inline(always)]
+fn cubic_spline_shape(q: f64) -> (f64, f64) {
+    let t = (2.0 - q).max(0.0);
+    let u = (1.0 - q).max(0.0);
+    (0.25 * t * t * t - u * u * u, 3.0 * u * u - 0.75 * t * t)
+}
+
+/// Wendland C2: f = (1 − q/2)^4 (2q + 1); d/dq [(1 − q/2)^4 (2q + 1)] = −5 q (1 − q/2)^3; 0
+/// beyond q = 2.
+#[inline(always)]
+fn wendland_c2_shape(q: f64) -> (f64, f64) {
+    let t = (1.0 - 0.5 * q).max(0.0);
+    let t2 = t * t;
+    (t2 * t2 * (2.0 * q + 1.0), -5.0 * q * t2 * t)
 }
 
 #[cfg(test)]

@@ -49,6 +49,9 @@ pub struct CellGrid<const D: usize> {
     fluid_entries: Vec<u32>,
     wall_cell_start: Vec<u32>,
     wall_entries: Vec<u32>,
+    /// Per cell: whether its search stencil holds any wall particle (most fluid particles are
+    /// far from the walls; their wall search then ends at this flag).
+    wall_near: Vec<bool>,
     /// Scratch: cell of each fluid particle.
     fluid_cell: Vec<u32>,
 }
@@ -103,6 +106,7 @@ impl<const D: usize> CellGrid<D> {
             fluid_entries: Vec::new(),
             wall_cell_start: vec![0; n_cells + 1],
             wall_entries: Vec::new(),
+            wall_near: vec![false; n_cells],
             fluid_cell: Vec::new(),
         };
         let mut wall_cell = vec![0u32; walls.len()];
@@ -111,6 +115,15 @@ impl<const D: usize> CellGrid<D> {
         grid.counting_sort(walls, &mut wall_cell, &mut wall_start, &mut wall_entries);
         grid.wall_cell_start = wall_start;
         grid.wall_entries = wall_entries;
+        // A cell's stencil holds a wall particle when a wall particle's stencil holds the cell
+        // (the stencil is symmetric).
+        let mut wall_near = std::mem::take(&mut grid.wall_near);
+        for x in walls {
+            grid.for_each_row(x, |c0, c1| {
+                wall_near[c0..c1].iter_mut().for_each(|f| *f = true);
+            });
+        }
+        grid.wall_near = wall_near;
         grid
     }
 
@@ -230,11 +243,13 @@ impl<const D: usize> CellGrid<D> {
             if ok {
                 let row = base * self.dims[0];
                 let end = starts[row + x_hi + 1] as usize;
-                if first {
-                    visit(i + 1, end);
+                // One call site, so that the compiler inlines `visit`.
+                let begin = if first {
+                    i + 1
                 } else {
-                    visit(starts[row + x_lo] as usize, end);
-                }
+                    starts[row + x_lo] as usize
+                };
+                visit(begin, end);
             }
             first = false;
             // Advance the odometer over axes 1..D.
@@ -387,6 +402,9 @@ impl<const D: usize> NeighbourSearch<D> for CellGrid<D> {
 
     #[inline(always)]
     fn for_each_wall_candidate<F: FnMut(usize)>(&self, x: &SVector<f64, D>, mut visit: F) {
+        if !self.wall_near[self.cell_index(x)] {
+            return;
+        }
         self.for_each_row(x, |c0, c1| {
             let (b, e) = (
                 self.wall_cell_start[c0] as usize,

@@ -57,6 +57,11 @@ pub struct NeighbourLists {
     capacity: usize,
     entries: Vec<u32>,
     count: Vec<u16>,
+    /// Sorted sweeps: where each particle's list starts in `entries`. The lists of a sweep
+    /// block are packed one after the other in the block's share of `entries` (its particles
+    /// × capacity), so the force sweep reads them as one stream; empty for the other passes,
+    /// whose lists start at i × capacity.
+    start: Vec<u32>,
 }
 
 impl NeighbourLists {
@@ -66,12 +71,13 @@ impl NeighbourLists {
             capacity,
             entries: vec![0; n * capacity],
             count: vec![LIST_OVERFLOW; n],
+            start: Vec::new(),
         }
     }
 
     /// Bytes held by the lists.
     pub fn heap_bytes(&self) -> usize {
-        self.entries.len() * 4 + self.count.len() * 2
+        self.entries.len() * 4 + self.count.len() * 2 + self.start.len() * 4
     }
 }
 
@@ -485,6 +491,7 @@ impl<const D: usize> Simulation<D> {
         }
         if sim.sorted_every_step {
             sim.wall_scatter = WallScatter::new(n_wall);
+            sim.fluid.neighbours.start = vec![0; n];
             sim.scratch_vec2 = vec![Vector::<D>::zeros(); n];
             sim.sort_and_index();
         } else if sim.modern.is_some() && matches!(sim.search, Search::Grid(_)) {
@@ -1443,6 +1450,75 @@ fn colour_sweep<F: Fn(usize, usize, usize) + Sync>(bounds: &[u32], block: F) {
     }
 }
 
+/// What the fluid pairs of the sorted density sweep read and write, so that the batch
+/// evaluation can be an always-inlined method (a closure called from two places is compiled
+/// as a function, with its sums in memory).
+struct DensitySweep<'a, const D: usize> {
+    kernel: Kernel,
+    m: f64,
+    pos: &'a [Vector<D>],
+    vel: &'a [Vector<D>],
+    inv_rho: &'a [f64],
+    rho_acc: &'a SharedSlice<f64>,
+    ksum_acc: &'a SharedSlice<f64>,
+    grad_acc: &'a SharedSlice<Tensor<D>>,
+}
+
+/// The running sums of one particle in the sorted density sweep, and its list's fill.
+struct DensitySums<const D: usize> {
+    rho: f64,
+    kernel_sum: f64,
+    grad_v: Tensor<D>,
+    listed: usize,
+    overflow: bool,
+}
+
+impl<const D: usize> DensitySweep<'_, D> {
+    /// Evaluates a batch of fluid pairs (i, j) within the support, `owner` = (x_i, v_i,
+    /// m/ρ_i), in a loop without unpredictable branches: adds them to i's `sums` and to j's
+    /// accumulators, and appends the j to i's list.
+    #[inline(always)]
+    fn batch(
+        &self,
+        (xi, vi, volume_i): (Vector<D>, Vector<D>, f64),
+        batch_j: &[u32],
+        batch_r2: &[f64],
+        list: &mut [u32],
+        sums: &mut DensitySums<D>,
+    ) {
+        let m = self.m;
+        let mut batch_w = [0.0f64; BATCH];
+        let mut batch_f = [0.0f64; BATCH];
+        self.kernel
+            .values_and_gradient_factors(batch_r2, &mut batch_w, &mut batch_f);
+        let (mut rho_sum, mut kernel_sum, mut grad_v) = (sums.rho, sums.kernel_sum, sums.grad_v);
+        for ((&j, &w), &grad_factor) in batch_j.iter().zip(&batch_w).zip(&batch_f) {
+            let j = j as usize;
+            let xij = xi - self.pos[j];
+            let volume_j = m * self.inv_rho[j];
+            let mw = m * w;
+            rho_sum += mw;
+            kernel_sum += volume_j * w;
+            // (v_j − v_i) ⊗ ∇_i W_ij; for j the pair gives (v_i − v_j) ⊗ ∇_j W_ji, the same
+            // tensor.
+            let outer = (self.vel[j] - vi) * (xij * grad_factor).transpose();
+            grad_v += outer * volume_j;
+            // SAFETY: j is in this block or the next (colour_blocks).
+            unsafe {
+                *self.rho_acc.at(j) += mw;
+                *self.ksum_acc.at(j) += volume_i * w;
+                *self.grad_acc.at(j) += outer * volume_i;
+            }
+        }
+        (sums.rho, sums.kernel_sum, sums.grad_v) = (rho_sum, kernel_sum, grad_v);
+        let listed = sums.listed;
+        let room = batch_j.len().min(list.len() - listed);
+        list[listed..listed + room].copy_from_slice(&batch_j[..room]);
+        sums.listed += room;
+        sums.overflow |= room < batch_j.len();
+    }
+}
+
 /// Density pass (Eq. 19, 20, 18, 5) on cell-sorted fluid arrays: each fluid pair is
 /// evaluated once, from the particle that finds the other in its forward half stencil, and
 /// adds to both. Fills the half neighbour lists (forward fluid neighbours and all wall
@@ -1478,53 +1554,47 @@ fn density_pass_sorted<const D: usize>(
         let grad_acc = SharedSlice::new(&mut fluid.strain_rate);
         let entries = SharedSlice::new(&mut fluid.neighbours.entries);
         let counts = SharedSlice::new(&mut fluid.neighbours.count);
+        let starts = SharedSlice::new(&mut fluid.neighbours.start);
         let wall_rho_acc = SharedSlice::new(&mut scatter.rho);
         let wall_ksum_acc = SharedSlice::new(&mut scatter.kernel_sum);
         let wall_near_r2 = SharedSlice::new(&mut scatter.nearest_r2);
         let wall_near = SharedSlice::new(&mut scatter.nearest);
+        let sweep = DensitySweep {
+            kernel,
+            m,
+            pos,
+            vel,
+            inv_rho,
+            rho_acc: &rho_acc,
+            ksum_acc: &ksum_acc,
+            grad_acc: &grad_acc,
+        };
         colour_sweep(blocks, |b, begin, end| {
             // This block's set of wall sums (see WallScatter).
             let set = (b % WallScatter::SETS) * n_wall;
+            // The block's lists are packed from the start of its share of the entries; a
+            // particle always has room for `capacity` entries (those before it used at most
+            // as many each).
+            let mut cursor = begin * capacity;
             for i in begin..end {
                 let xi = pos[i];
                 let vi = vel[i];
                 let volume_i = m * inv_rho[i];
-                // SAFETY: slot i's list belongs to the block that owns slot i.
-                let list = unsafe { entries.slice(i * capacity, capacity) };
-                let mut listed = 0usize;
-                let mut overflow = false;
+                // SAFETY: entries begin·capacity..end·capacity belong to this block, and
+                // cursor + capacity ≤ (i + 1)·capacity.
+                let list = unsafe { entries.slice(cursor, capacity) };
                 // The particle itself (r = 0, no gradient).
-                let mut rho_sum = m * w0;
-                let mut kernel_sum = volume_i * w0;
-                let mut grad_v = Tensor::<D>::zeros();
-                // The candidates within the support are gathered in batches without a branch
-                // per candidate, then evaluated in a loop without unpredictable branches.
-                let mut process = |batch_j: &[u32], batch_r2: &[f64]| {
-                    for (&j, &r2) in batch_j.iter().zip(batch_r2) {
-                        let j = j as usize;
-                        let xij = xi - pos[j];
-                        let r = r2.sqrt();
-                        let (w, grad_factor) = kernel.value_and_gradient_factor(r);
-                        let volume_j = m * inv_rho[j];
-                        let mw = m * w;
-                        rho_sum += mw;
-                        kernel_sum += volume_j * w;
-                        // (v_j − v_i) ⊗ ∇_i W_ij; for j the pair gives (v_i − v_j) ⊗ ∇_j W_ji,
-                        // the same tensor.
-                        let outer = (vel[j] - vi) * (xij * grad_factor).transpose();
-                        grad_v += outer * volume_j;
-                        // SAFETY: j is in this block or the next (colour_blocks).
-                        unsafe {
-                            *rho_acc.at(j) += mw;
-                            *ksum_acc.at(j) += volume_i * w;
-                            *grad_acc.at(j) += outer * volume_i;
-                        }
-                    }
-                    let room = batch_j.len().min(capacity - listed);
-                    list[listed..listed + room].copy_from_slice(&batch_j[..room]);
-                    listed += room;
-                    overflow |= room < batch_j.len();
+                let rho_sum = m * w0;
+                let kernel_sum = volume_i * w0;
+                let grad_v = Tensor::<D>::zeros();
+                let mut sums = DensitySums {
+                    rho: rho_sum,
+                    kernel_sum,
+                    grad_v,
+                    listed: 0,
+                    overflow: false,
                 };
+                let owner = (xi, vi, volume_i);
                 let mut batch_j = [0u32; BATCH];
                 let mut batch_r2 = [0.0f64; BATCH];
                 let mut batched = 0usize;
@@ -1535,12 +1605,25 @@ fn density_pass_sorted<const D: usize>(
                         batch_r2[batched] = r2;
                         batched += (r2 < c.support_sq) as usize;
                         if batched == BATCH {
-                            process(&batch_j, &batch_r2);
+                            sweep.batch(owner, &batch_j, &batch_r2, list, &mut sums);
                             batched = 0;
                         }
                     }
                 });
-                process(&batch_j[..batched], &batch_r2[..batched]);
+                sweep.batch(
+                    owner,
+                    &batch_j[..batched],
+                    &batch_r2[..batched],
+                    list,
+                    &mut sums,
+                );
+                let DensitySums {
+                    rho: mut rho_sum,
+                    mut kernel_sum,
+                    grad_v,
+                    mut listed,
+                    mut overflow,
+                } = sums;
                 grid.for_each_wall_candidate(&xi, |w_idx| {
                     let xiw = xi - wall_pos[w_idx];
                     let r2 = xiw.norm_squared();
@@ -1576,10 +1659,12 @@ fn density_pass_sorted<const D: usize>(
                     } else {
                         listed as u16
                     };
+                    *starts.at(i) = cursor as u32;
                     *rho_acc.at(i) += rho_sum;
                     *ksum_acc.at(i) += kernel_sum;
                     *grad_acc.at(i) += grad_v;
                 }
+                cursor += listed;
             }
         });
     }
@@ -1663,6 +1748,114 @@ impl WallScatter {
     }
 }
 
+/// What the sorted force sweep reads, gathered so that its pair terms can be functions that
+/// are always inlined (closures called from two places are not, and a call per pair costs
+/// as much as the pair's arithmetic).
+struct ForceSweep<'a, const D: usize> {
+    c: PassConstants,
+    /// 0.01 h² of Eq. 11.
+    eps_h2: f64,
+    viscous: bool,
+    av_on: bool,
+    pos: &'a [Vector<D>],
+    vel: &'a [Vector<D>],
+    rho: &'a [f64],
+    inv_rho: &'a [f64],
+    p: &'a [f64],
+    strain: &'a [Tensor<D>],
+    wall_pos: &'a [Vector<D>],
+    wall_rho: &'a [f64],
+    wall_inv_rho: &'a [f64],
+    wall_p: &'a [f64],
+}
+
+/// The particle i of a row of pairs in the force sweep.
+struct ForceOwner<const D: usize> {
+    x: Vector<D>,
+    v: Vector<D>,
+    rho: f64,
+    inv_rho: f64,
+    p: f64,
+    strain: Tensor<D>,
+}
+
+impl<const D: usize> ForceSweep<'_, D> {
+    /// 1/r (the kernel gradient), 1/(r² + 0.01 h²) (Eq. 11) and 1/ρ̄ of a pair at squared
+    /// distance r2 with ρ_i + ρ_j = rho_pair, from one division: `inv` = 1/(r s (ρ_i + ρ_j))
+    /// with s = r² + 0.01 h². r is floored (far below the kernel's r = 0 cut-off) so that
+    /// coincident particles give finite factors. Returns (∇W factor, 1/s, 1/ρ̄).
+    #[inline(always)]
+    fn pair_factors(&self, r2: f64, rho_pair: f64) -> (f64, f64, f64) {
+        let r = r2.sqrt().max(1e-150);
+        let s = r2 + self.eps_h2;
+        let inv = 1.0 / (r * s * rho_pair);
+        let grad_factor = self
+            .c
+            .kernel
+            .gradient_factor_with_inverse(r, inv * (s * rho_pair));
+        (grad_factor, inv * (r * rho_pair), inv * (2.0 * r * s))
+    }
+
+    /// Eq. 10: Π_ij = (−α c̄ φ + β φ²)/ρ̄ for approaching pairs, 0 otherwise. Without a
+    /// branch: a receding pair has φ = 0 and so Π = 0.
+    #[inline(always)]
+    fn artificial_viscosity(
+        &self,
+        vij: Vector<D>,
+        xij: Vector<D>,
+        inv_s: f64,
+        inv_rho_mean: f64,
+    ) -> f64 {
+        let c = &self.c;
+        let v_dot_x = vij.dot(&xij).min(0.0);
+        let phi = c.kernel.h * v_dot_x * inv_s; // Eq. 11
+        (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) * inv_rho_mean
+    }
+
+    /// The acceleration of i from fluid particle j within the support (Eq. 8–9): added to i,
+    /// subtracted from j.
+    #[inline(always)]
+    fn fluid_term(&self, o: &ForceOwner<D>, j: usize, xij: Vector<D>, r2: f64) -> Vector<D> {
+        let c = &self.c;
+        let m = c.mass;
+        let (grad_factor, inv_s, inv_rho_mean) = self.pair_factors(r2, o.rho + self.rho[j]);
+        let grad_w = xij * grad_factor;
+        let inv_rho_ij = o.inv_rho * self.inv_rho[j];
+        // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
+        let mut scalar = -(o.p + self.p[j]) * inv_rho_ij;
+        if self.av_on {
+            scalar -= self.artificial_viscosity(o.v - self.vel[j], xij, inv_s, inv_rho_mean);
+        }
+        let mut term = grad_w * (m * scalar);
+        if self.viscous {
+            // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W.
+            term += (o.strain + self.strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
+        }
+        term
+    }
+
+    /// The acceleration of i from wall particle w within the support.
+    #[inline(always)]
+    fn wall_term(&self, o: &ForceOwner<D>, w: usize, xiw: Vector<D>, r2: f64) -> Vector<D> {
+        let c = &self.c;
+        let m = c.mass;
+        let (grad_factor, inv_s, inv_rho_mean) = self.pair_factors(r2, o.rho + self.wall_rho[w]);
+        let grad_w = xiw * grad_factor;
+        let inv_rho_iw = o.inv_rho * self.wall_inv_rho[w];
+        // Wall particles: σ_w = −p_w I (free slip: no viscous stress from the wall),
+        // velocity zero in the artificial viscosity.
+        let mut scalar = -(o.p + self.wall_p[w]) * inv_rho_iw;
+        if self.av_on {
+            scalar -= self.artificial_viscosity(o.v, xiw, inv_s, inv_rho_mean);
+        }
+        let mut term = grad_w * (m * scalar);
+        if self.viscous {
+            term += o.strain * grad_w * (m * c.viscosity * inv_rho_iw);
+        }
+        term
+    }
+}
+
 /// Force pass (Eq. 8–16, as [`force_pass`]) on cell-sorted fluid arrays with the half lists
 /// of [`density_pass_sorted`]: the fluid pair term is antisymmetric (∇_j W_ji = −∇_i W_ij,
 /// every other factor symmetric in i and j), so each pair is evaluated once and added to i
@@ -1675,31 +1868,27 @@ fn force_pass_sorted<const D: usize>(
     walls: &Walls<D>,
     body_force: Vector<D>,
 ) {
-    let kernel = c.kernel;
-    let m = c.mass;
-    let h = kernel.h;
-    let eps_h2 = 0.01 * h * h; // φ of Eq. 11
-    let pos = &fluid.position;
-    let vel = &fluid.velocity;
-    let rho = &fluid.density;
-    let inv_rho = &fluid.inverse_density;
-    let p = &fluid.pressure;
-    let strain = &fluid.strain_rate;
-    let viscous = c.viscosity > 0.0;
-    let av_on = c.av_alpha > 0.0 || c.av_beta > 0.0;
-    // Eq. 10: Π_ij = (−α c̄ φ + β φ²)/ρ̄ for approaching pairs, 0 otherwise.
-    // Without a branch: a receding pair has φ = 0 and so Π = 0.
-    let artificial_viscosity = |vij: Vector<D>, xij: Vector<D>, r2: f64, rho_mean: f64| -> f64 {
-        let v_dot_x = vij.dot(&xij).min(0.0);
-        let phi = h * v_dot_x / (r2 + eps_h2); // Eq. 11
-        (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) / rho_mean
+    let h = c.kernel.h;
+    let sweep = ForceSweep {
+        c: *c,
+        eps_h2: 0.01 * h * h, // φ of Eq. 11
+        viscous: c.viscosity > 0.0,
+        av_on: c.av_alpha > 0.0 || c.av_beta > 0.0,
+        pos: &fluid.position,
+        vel: &fluid.velocity,
+        rho: &fluid.density,
+        inv_rho: &fluid.inverse_density,
+        p: &fluid.pressure,
+        strain: &fluid.strain_rate,
+        wall_pos: &walls.position,
+        wall_rho: &walls.density,
+        wall_inv_rho: &walls.inverse_density,
+        wall_p: &walls.pressure,
     };
-    let lists = &fluid.neighbours;
-    let capacity = lists.capacity;
-    let wall_pos = &walls.position;
-    let wall_rho = &walls.density;
-    let wall_inv_rho = &walls.inverse_density;
-    let wall_p = &walls.pressure;
+    let support_sq = c.support_sq;
+    let list_entries = fluid.neighbours.entries.as_slice();
+    let list_count = fluid.neighbours.count.as_slice();
+    let list_start = fluid.neighbours.start.as_slice();
     fluid
         .acceleration
         .par_iter_mut()
@@ -1707,77 +1896,62 @@ fn force_pass_sorted<const D: usize>(
         .for_each(|a| *a = body_force);
     let acc_shared = SharedSlice::new(&mut fluid.acceleration);
     colour_sweep(blocks, |_, begin, end| {
+        let s = &sweep;
+        let (pos, wall_pos) = (s.pos, s.wall_pos);
         for i in begin..end {
-            let xi = pos[i];
-            let vi = vel[i];
-            let rho_i = rho[i];
-            let inv_rho_i = inv_rho[i];
-            let p_i = p[i];
-            let strain_i = strain[i];
+            let o = ForceOwner {
+                x: pos[i],
+                v: s.vel[i],
+                rho: s.rho[i],
+                inv_rho: s.inv_rho[i],
+                p: s.p[i],
+                strain: s.strain[i],
+            };
+            let xi = o.x;
             let mut acc = Vector::<D>::zeros();
-            let fluid_term = |acc: &mut Vector<D>, j: usize| {
-                let xij = xi - pos[j];
-                let r2 = xij.norm_squared();
-                if r2 >= c.support_sq {
-                    return;
-                }
-                let r = r2.sqrt();
-                let grad_w = xij * kernel.gradient_factor(r);
-                let rho_j = rho[j];
-                let inv_rho_ij = inv_rho_i * inv_rho[j];
-                // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
-                let mut scalar = -(p_i + p[j]) * inv_rho_ij;
-                if av_on {
-                    scalar -= artificial_viscosity(vi - vel[j], xij, r2, 0.5 * (rho_i + rho_j));
-                }
-                let mut term = grad_w * (m * scalar);
-                if viscous {
-                    // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W.
-                    term += (strain_i + strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
-                }
-                *acc += term;
-                // SAFETY: j is in this block or the next (colour_blocks).
-                unsafe {
-                    *acc_shared.at(j) -= term;
-                }
-            };
-            let wall_term = |acc: &mut Vector<D>, w: usize| {
-                let xiw = xi - wall_pos[w];
-                let r2 = xiw.norm_squared();
-                if r2 >= c.support_sq {
-                    return;
-                }
-                let r = r2.sqrt();
-                let grad_w = xiw * kernel.gradient_factor(r);
-                let rho_w = wall_rho[w];
-                let inv_rho_iw = inv_rho_i * wall_inv_rho[w];
-                // Wall particles: σ_w = −p_w I (free slip: no viscous stress from the wall),
-                // velocity zero in the artificial viscosity.
-                let mut scalar = -(p_i + wall_p[w]) * inv_rho_iw;
-                if av_on {
-                    scalar -= artificial_viscosity(vi, xiw, r2, 0.5 * (rho_i + rho_w));
-                }
-                *acc += grad_w * (m * scalar);
-                if viscous {
-                    *acc += strain_i * grad_w * (m * c.viscosity * inv_rho_iw);
-                }
-            };
-            let count = lists.count[i];
+            let count = list_count[i];
             if count != LIST_OVERFLOW {
-                for &entry in &lists.entries[i * capacity..i * capacity + count as usize] {
+                // The listed pairs are within the support (tested by the density sweep on
+                // the same positions).
+                let first = list_start[i] as usize;
+                for &entry in &list_entries[first..first + count as usize] {
                     if entry & WALL_NEIGHBOUR == 0 {
-                        fluid_term(&mut acc, entry as usize);
+                        let j = entry as usize;
+                        let xij = xi - pos[j];
+                        let term = s.fluid_term(&o, j, xij, xij.norm_squared());
+                        acc += term;
+                        // SAFETY: j is in this block or the next (colour_blocks).
+                        unsafe {
+                            *acc_shared.at(j) -= term;
+                        }
                     } else {
-                        wall_term(&mut acc, (entry & !WALL_NEIGHBOUR) as usize);
+                        let w = (entry & !WALL_NEIGHBOUR) as usize;
+                        let xiw = xi - wall_pos[w];
+                        acc += s.wall_term(&o, w, xiw, xiw.norm_squared());
                     }
                 }
             } else {
                 grid.for_each_forward_range(i, &xi, |j0, j1| {
-                    for j in j0..j1 {
-                        fluid_term(&mut acc, j);
+                    for (j, xj) in (j0..j1).zip(&pos[j0..j1]) {
+                        let xij = xi - xj;
+                        let r2 = xij.norm_squared();
+                        if r2 < support_sq {
+                            let term = s.fluid_term(&o, j, xij, r2);
+                            acc += term;
+                            // SAFETY: as above.
+                            unsafe {
+                                *acc_shared.at(j) -= term;
+                            }
+                        }
                     }
                 });
-                grid.for_each_wall_candidate(&xi, |w| wall_term(&mut acc, w));
+                grid.for_each_wall_candidate(&xi, |w| {
+                    let xiw = xi - wall_pos[w];
+                    let r2 = xiw.norm_squared();
+                    if r2 < support_sq {
+                        acc += s.wall_term(&o, w, xiw, r2);
+                    }
+                });
             }
             // SAFETY: slot i belongs to this block.
             unsafe {
