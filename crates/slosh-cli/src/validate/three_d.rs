@@ -386,7 +386,11 @@ fn cylinder_forced_inner(ctx: &Context, group: &str) -> Result<GroupResult> {
         &[
             Series::line("SPH (floor + shell, ±20-step window)", &tb, &shear),
             Series::dashed("linear theory (10 modes)", &tb, &shear_lin),
-            Series::dashed("Housner (impulsive + convective mass, from rest)", &tb, &shear_housner),
+            Series::dashed(
+                "Housner (impulsive + convective mass, from rest)",
+                &tb,
+                &shear_housner,
+            ),
         ],
     );
     for (s, c) in [
