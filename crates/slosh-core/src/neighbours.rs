@@ -56,6 +56,20 @@ pub struct CellGrid<const D: usize> {
     fluid_cell: Vec<u32>,
 }
 
+/// Advances the row offsets in axes 1..D (axis 1 fastest) to the next row of the stencil,
+/// each within ±`reach`; false when every row has been visited.
+#[inline(always)]
+fn next_row<const D: usize>(offsets: &mut [i64; D], reach: i64) -> bool {
+    for o in offsets.iter_mut().skip(1) {
+        *o += 1;
+        if *o <= reach {
+            return true;
+        }
+        *o = -reach;
+    }
+    false
+}
+
 impl<const D: usize> CellGrid<D> {
     /// Grid for neighbours within `support` (m) covering [lower, upper], with the fixed wall
     /// particles indexed once. Cells are half the support wide and a search visits two cells
@@ -230,18 +244,7 @@ impl<const D: usize> CellGrid<D> {
         let mut offsets = [0i64; D];
         let mut first = true;
         loop {
-            let mut ok = true;
-            let mut base = 0usize;
-            for k in (1..D).rev() {
-                let ck = c[k] as i64 + offsets[k];
-                if ck < 0 || ck >= self.dims[k] as i64 {
-                    ok = false;
-                    break;
-                }
-                base = base * self.dims[k] + ck as usize;
-            }
-            if ok {
-                let row = base * self.dims[0];
+            if let Some(row) = self.row_start(&c, &offsets) {
                 let end = starts[row + x_hi + 1] as usize;
                 // One call site, so that the compiler inlines `visit`.
                 let begin = if first {
@@ -252,20 +255,25 @@ impl<const D: usize> CellGrid<D> {
                 visit(begin, end);
             }
             first = false;
-            // Advance the odometer over axes 1..D.
-            let mut k = 1;
-            loop {
-                if k >= D {
-                    return;
-                }
-                offsets[k] += 1;
-                if offsets[k] <= reach {
-                    break;
-                }
-                offsets[k] = -reach;
-                k += 1;
+            if !next_row(&mut offsets, reach) {
+                return;
             }
         }
+    }
+
+    /// Linear index of the first cell of the row through cell `c` shifted by `offsets` in
+    /// axes 1..D (the row runs along axis 0), or `None` when that row is outside the grid.
+    #[inline(always)]
+    fn row_start(&self, c: &[usize; D], offsets: &[i64; D]) -> Option<usize> {
+        let mut base = 0usize;
+        for k in (1..D).rev() {
+            let ck = c[k] as i64 + offsets[k];
+            if ck < 0 || ck >= self.dims[k] as i64 {
+                return None;
+            }
+            base = base * self.dims[k] + ck as usize;
+        }
+        Some(base * self.dims[0])
     }
 
     /// Integer cell coordinates of a point, clamped to the grid.
@@ -343,32 +351,11 @@ impl<const D: usize> CellGrid<D> {
             *o = -reach;
         }
         loop {
-            let mut ok = true;
-            let mut base = 0usize;
-            for k in (1..D).rev() {
-                let ck = c[k] as i64 + offsets[k];
-                if ck < 0 || ck >= self.dims[k] as i64 {
-                    ok = false;
-                    break;
-                }
-                base = base * self.dims[k] + ck as usize;
-            }
-            if ok {
-                let row = base * self.dims[0];
+            if let Some(row) = self.row_start(&c, &offsets) {
                 visit(row + x_lo, row + x_hi + 1);
             }
-            // Advance the odometer over axes 1..D.
-            let mut k = 1;
-            loop {
-                if k >= D {
-                    return;
-                }
-                offsets[k] += 1;
-                if offsets[k] <= reach {
-                    break;
-                }
-                offsets[k] = -reach;
-                k += 1;
+            if !next_row(&mut offsets, reach) {
+                return;
             }
         }
     }
