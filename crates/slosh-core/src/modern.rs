@@ -668,6 +668,130 @@ fn wall_pass<const D: usize, S: NeighbourSearch<D>>(
 /// dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij (Monaghan 1992; walls at rest) with the δ-SPH
 /// diffusion term (Molteni & Colagrossi 2009; Fourtakas et al. 2019), and the shifting
 /// gradient ∇C_i = Σ_j V_j ∇_i W_ij.
+/// What the fluid–wall pair term of the modern force pass reads: one copy for both neighbour
+/// backends, its methods always inlined into their sweeps.
+struct WallPairTerms<'a, const D: usize> {
+    c: &'a PassConstants,
+    /// 0.01 h² of Eq. 11.
+    eps_h2: f64,
+    /// Walls in the artificial viscosity and the viscous term: dynamic walls as the paper
+    /// (wall at rest), Adami free-slip none, Adami no-slip the mirrored velocity.
+    wall_av: bool,
+    wall_viscous: bool,
+    mirrored: bool,
+    continuity: bool,
+    shifting: bool,
+    wall_pos: &'a [Vector<D>],
+    wall_rho: &'a [f64],
+    wall_inv_rho: &'a [f64],
+    wall_p: &'a [f64],
+    wall_vel: &'a [Vector<D>],
+}
+
+/// The fluid particle i of a row of pairs.
+struct PairOwner<const D: usize> {
+    x: Vector<D>,
+    v: Vector<D>,
+    rho: f64,
+    inv_rho: f64,
+    p: f64,
+    strain: Tensor<D>,
+}
+
+/// One fluid–wall pair's shares of i's sums: acceleration, dρ/dt, and the shifting's ∇C and
+/// kernel sum.
+struct WallPairTerm<const D: usize> {
+    acc: Vector<D>,
+    drho: f64,
+    grad_c: Vector<D>,
+    kernel_sum: f64,
+}
+
+impl<'a, const D: usize> WallPairTerms<'a, D> {
+    fn new(
+        c: &'a PassConstants,
+        k: &ModernConstants,
+        walls: &'a Walls<D>,
+        wall_vel: &'a [Vector<D>],
+    ) -> Self {
+        let h = c.kernel.h;
+        let viscous = c.viscosity > 0.0;
+        let av_on = c.av_alpha > 0.0 || c.av_beta > 0.0;
+        WallPairTerms {
+            c,
+            eps_h2: 0.01 * h * h, // φ of Eq. 11
+            wall_av: av_on && (!k.adami || k.no_slip),
+            wall_viscous: viscous && (!k.adami || k.no_slip),
+            mirrored: k.adami && k.no_slip,
+            continuity: k.continuity,
+            shifting: k.shifting.is_some(),
+            wall_pos: &walls.position,
+            wall_rho: &walls.density,
+            wall_inv_rho: &walls.inverse_density,
+            wall_p: &walls.pressure,
+            wall_vel,
+        }
+    }
+
+    /// Eq. 10: Π_ij = (−α c̄ φ + β φ²)/ρ̄ for approaching pairs, 0 otherwise (a receding
+    /// pair has φ = 0).
+    #[inline(always)]
+    fn artificial_viscosity(&self, vij: Vector<D>, xij: Vector<D>, r2: f64, rho_mean: f64) -> f64 {
+        let c = self.c;
+        let v_dot_x = vij.dot(&xij).min(0.0);
+        let phi = c.kernel.h * v_dot_x / (r2 + self.eps_h2); // Eq. 11
+        (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) / rho_mean
+    }
+
+    /// The pair of fluid particle `o` and wall particle `w` if within the support: Eq. 8 with
+    /// the wall's pressure (and velocity when mirrored), the continuity term of the wall's
+    /// velocity (zero: the tank frame), and the shifting sums.
+    #[inline(always)]
+    fn wall_term(&self, o: &PairOwner<D>, w: usize) -> Option<WallPairTerm<D>> {
+        let c = self.c;
+        let m = c.mass;
+        let xiw = o.x - self.wall_pos[w];
+        let r2 = xiw.norm_squared();
+        if r2 >= c.support_sq {
+            return None;
+        }
+        let r = r2.sqrt();
+        let grad_w = xiw * c.kernel.gradient_factor(r);
+        let inv_rho_iw = o.inv_rho * self.wall_inv_rho[w];
+        let mut scalar = -(o.p + self.wall_p[w]) * inv_rho_iw;
+        if self.wall_av {
+            let v_w = if self.mirrored {
+                self.wall_vel[w]
+            } else {
+                Vector::<D>::zeros()
+            };
+            scalar -=
+                self.artificial_viscosity(o.v - v_w, xiw, r2, 0.5 * (o.rho + self.wall_rho[w]));
+        }
+        let mut acc = grad_w * (m * scalar);
+        if self.wall_viscous {
+            acc += o.strain * grad_w * (m * c.viscosity * inv_rho_iw);
+        }
+        let drho = if self.continuity {
+            m * o.v.dot(&grad_w)
+        } else {
+            0.0
+        };
+        let (grad_c, kernel_sum) = if self.shifting {
+            let volume_w = m * self.wall_inv_rho[w];
+            (grad_w * volume_w, volume_w * c.kernel.value(r))
+        } else {
+            (Vector::<D>::zeros(), 0.0)
+        };
+        Some(WallPairTerm {
+            acc,
+            drho,
+            grad_c,
+            kernel_sum,
+        })
+    }
+}
+
 fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
     search: &S,
     c: &PassConstants,
@@ -679,8 +803,6 @@ fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
     let k = st.k;
     let kernel = c.kernel;
     let m = c.mass;
-    let h = kernel.h;
-    let eps_h2 = 0.01 * h * h; // φ of Eq. 11
     let pos = &fluid.position;
     let vel = &fluid.velocity;
     let rho = &fluid.density;
@@ -696,21 +818,7 @@ fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
     // ψ_ij·∇_i W_ij = 2 (ρ_j − ρ_i) x_ji·x_ij F/r² = −2 (ρ_j − ρ_i) F, F = (dW/dr)/r.
     let diff_coeff = -2.0 * k.diffusion_coeff;
     let shifting = k.shifting.is_some();
-    // Walls in the artificial viscosity and the viscous term: dynamic walls as the paper
-    // (wall at rest), Adami free-slip none, Adami no-slip the mirrored velocity.
-    let wall_av = av_on && (!k.adami || k.no_slip);
-    let wall_viscous = viscous && (!k.adami || k.no_slip);
-    let mirrored = k.adami && k.no_slip;
-    // Eq. 10: Π_ij = (−α c̄ φ + β φ²)/ρ̄ for approaching pairs, 0 otherwise.
-    let artificial_viscosity = |vij: Vector<D>, xij: Vector<D>, r2: f64, rho_mean: f64| -> f64 {
-        let v_dot_x = vij.dot(&xij);
-        if v_dot_x < 0.0 {
-            let phi = h * v_dot_x / (r2 + eps_h2); // Eq. 11
-            (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) / rho_mean
-        } else {
-            0.0
-        }
-    };
+    let wall_terms = WallPairTerms::new(c, &k, walls, wall_vel);
     let mut no_vec: [Vector<D>; 0] = [];
     let mut no_f64: [f64; 0] = [];
     let (shift_grad, shift_ksum): (&mut [Vector<D>], &mut [f64]) = if shifting {
@@ -756,7 +864,7 @@ fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
             // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
             let mut scalar = -(p_i + p[j]) * inv_rho_ij;
             if av_on {
-                scalar -= artificial_viscosity(vij, xij, r2, 0.5 * (rho_i + rho_j));
+                scalar -= wall_terms.artificial_viscosity(vij, xij, r2, 0.5 * (rho_i + rho_j));
             }
             acc += grad_w * (m * scalar);
             if viscous {
@@ -779,38 +887,20 @@ fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
                 ksum += m * inv_rho_j * kernel.value(r);
             }
         });
-        let wall_pos = &walls.position;
-        let wall_rho = &walls.density;
-        let wall_inv_rho = &walls.inverse_density;
-        let wall_p = &walls.pressure;
+        let owner = PairOwner {
+            x: xi,
+            v: vi,
+            rho: rho_i,
+            inv_rho: inv_rho_i,
+            p: p_i,
+            strain: strain_i,
+        };
         search.for_each_wall_candidate(&xi, |w| {
-            let xiw = xi - wall_pos[w];
-            let r2 = xiw.norm_squared();
-            if r2 >= c.support_sq {
-                return;
-            }
-            let r = r2.sqrt();
-            let grad_w = xiw * kernel.gradient_factor(r);
-            let inv_rho_iw = inv_rho_i * wall_inv_rho[w];
-            let mut scalar = -(p_i + wall_p[w]) * inv_rho_iw;
-            if wall_av {
-                let v_w = if mirrored {
-                    wall_vel[w]
-                } else {
-                    Vector::<D>::zeros()
-                };
-                scalar -= artificial_viscosity(vi - v_w, xiw, r2, 0.5 * (rho_i + wall_rho[w]));
-            }
-            acc += grad_w * (m * scalar);
-            if wall_viscous {
-                acc += strain_i * grad_w * (m * c.viscosity * inv_rho_iw);
-            }
-            if continuity {
-                drho += m * vi.dot(&grad_w);
-            }
-            if shifting {
-                grad_c += grad_w * (m * wall_inv_rho[w]);
-                ksum += m * wall_inv_rho[w] * kernel.value(r);
+            if let Some(t) = wall_terms.wall_term(&owner, w) {
+                acc += t.acc;
+                drho += t.drho;
+                grad_c += t.grad_c;
+                ksum += t.kernel_sum;
             }
         });
         *acc_out = acc + body_force;
@@ -921,8 +1011,6 @@ fn modern_force_pass_sorted<const D: usize>(
     let k = st.k;
     let kernel = c.kernel;
     let m = c.mass;
-    let h = kernel.h;
-    let eps_h2 = 0.01 * h * h; // φ of Eq. 11
     let viscous = c.viscosity > 0.0;
     let av_on = c.av_alpha > 0.0 || c.av_beta > 0.0;
     let continuity = k.continuity;
@@ -930,18 +1018,6 @@ fn modern_force_pass_sorted<const D: usize>(
     // ψ_ij·∇_i W_ij = 2 (ρ_j − ρ_i) x_ji·x_ij F/r² = −2 (ρ_j − ρ_i) F, F = (dW/dr)/r.
     let diff_coeff = -2.0 * k.diffusion_coeff;
     let shifting = k.shifting.is_some();
-    // Walls in the artificial viscosity and the viscous term: dynamic walls as the paper
-    // (wall at rest), Adami free-slip none, Adami no-slip the mirrored velocity.
-    let wall_av = av_on && (!k.adami || k.no_slip);
-    let wall_viscous = viscous && (!k.adami || k.no_slip);
-    let mirrored = k.adami && k.no_slip;
-    // Eq. 10: Π_ij = (−α c̄ φ + β φ²)/ρ̄ for approaching pairs, 0 otherwise (a receding
-    // pair has φ = 0).
-    let artificial_viscosity = |vij: Vector<D>, xij: Vector<D>, r2: f64, rho_mean: f64| -> f64 {
-        let v_dot_x = vij.dot(&xij).min(0.0);
-        let phi = h * v_dot_x / (r2 + eps_h2); // Eq. 11
-        (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) / rho_mean
-    };
     let w0 = kernel.value(0.0);
     let n = fluid.position.len();
     fluid
@@ -976,10 +1052,7 @@ fn modern_force_pass_sorted<const D: usize>(
     let grad_c_shared = SharedSlice::new(&mut st.shift_gradient);
     let ksum_shared = SharedSlice::new(&mut st.shift_kernel_sum);
     debug_assert!(!shifting || st.shift_gradient.len() == n);
-    let wall_pos = &walls.position;
-    let wall_rho = &walls.density;
-    let wall_inv_rho = &walls.inverse_density;
-    let wall_p = &walls.pressure;
+    let wall_terms = WallPairTerms::new(c, &k, walls, wall_vel);
     colour_sweep(blocks, |_, begin, end| {
         for i in begin..end {
             let xi = pos[i];
@@ -1016,7 +1089,8 @@ fn modern_force_pass_sorted<const D: usize>(
                     // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
                     let mut scalar = -(p_i + p[j]) * inv_rho_ij;
                     if av_on {
-                        scalar -= artificial_viscosity(vij, xij, r2, 0.5 * (rho_i + rho_j));
+                        scalar -=
+                            wall_terms.artificial_viscosity(vij, xij, r2, 0.5 * (rho_i + rho_j));
                     }
                     let mut term = grad_w * (m * scalar);
                     if viscous {
@@ -1057,34 +1131,20 @@ fn modern_force_pass_sorted<const D: usize>(
                     }
                 }
             });
+            let owner = PairOwner {
+                x: xi,
+                v: vi,
+                rho: rho_i,
+                inv_rho: inv_rho_i,
+                p: p_i,
+                strain: strain_i,
+            };
             grid.for_each_wall_candidate(&xi, |w| {
-                let xiw = xi - wall_pos[w];
-                let r2 = xiw.norm_squared();
-                if r2 >= c.support_sq {
-                    return;
-                }
-                let r = r2.sqrt();
-                let grad_w = xiw * kernel.gradient_factor(r);
-                let inv_rho_iw = inv_rho_i * wall_inv_rho[w];
-                let mut scalar = -(p_i + wall_p[w]) * inv_rho_iw;
-                if wall_av {
-                    let v_w = if mirrored {
-                        wall_vel[w]
-                    } else {
-                        Vector::<D>::zeros()
-                    };
-                    scalar -= artificial_viscosity(vi - v_w, xiw, r2, 0.5 * (rho_i + wall_rho[w]));
-                }
-                acc += grad_w * (m * scalar);
-                if wall_viscous {
-                    acc += strain_i * grad_w * (m * c.viscosity * inv_rho_iw);
-                }
-                if continuity {
-                    drho += m * vi.dot(&grad_w);
-                }
-                if shifting {
-                    grad_c += grad_w * (m * wall_inv_rho[w]);
-                    ksum += m * wall_inv_rho[w] * kernel.value(r);
+                if let Some(t) = wall_terms.wall_term(&owner, w) {
+                    acc += t.acc;
+                    drho += t.drho;
+                    grad_c += t.grad_c;
+                    ksum += t.kernel_sum;
                 }
             });
             // SAFETY: slot i belongs to this block.
