@@ -2,8 +2,9 @@
 //!
 //! Every case is built, warmed up ([`WARMUP_STEPS`] steps under gravity and a small sine
 //! ground acceleration), then timed for a fixed number of steps in a rayon pool of each
-//! requested size. One simulation per (case, backend) serves all thread counts, one after
-//! the other. Reported per run:
+//! requested size. One simulation per (case, backend) serves all thread counts: the timed
+//! steps are cut into [`BLOCKS`] blocks and the pools take turns block by block, so that a
+//! slow spell of the host weighs on every thread count alike. Reported per run:
 //! - particle-steps per second, counting fluid + wall particles (as engineering SPH codes
 //!   quote), fluid-only, and over the fastest of [`BLOCKS`] equal blocks of the timed steps
 //!   (the least disturbed by other processes);
@@ -31,7 +32,7 @@ pub const WARMUP_STEPS: usize = 20;
 /// Untimed steps at the start of each thread count (spins up the pool, warms the caches).
 const REWARM_STEPS: usize = 3;
 /// The timed steps are split into this many blocks (for the best-block throughput).
-pub const BLOCKS: usize = 5;
+pub const BLOCKS: usize = 10;
 /// Amplitude (m/s²) and frequency (Hz) of the horizontal sine ground acceleration.
 const GROUND_AMPLITUDE: f64 = 0.5;
 const GROUND_FREQUENCY: f64 = 2.0;
@@ -82,7 +83,7 @@ pub fn full_cases() -> Vec<BenchCase> {
             name: "2d-80k",
             tank: BenchTank::PaperRect2,
             dx: 0.0025,
-            steps: 150,
+            steps: 300,
             kdtree: true,
         },
         BenchCase {
@@ -97,7 +98,7 @@ pub fn full_cases() -> Vec<BenchCase> {
             name: "3d-500k",
             tank: BenchTank::Cylinder3,
             dx: 0.01,
-            steps: 10,
+            steps: 20,
             kdtree: false,
         },
     ]
@@ -110,6 +111,24 @@ pub fn quick_cases() -> Vec<BenchCase> {
         .filter(|c| c.name == "2d-20k" || c.name == "3d-100k")
         .map(|c| BenchCase { kdtree: false, ..c })
         .collect()
+}
+
+/// The cases of a run: the full or `--quick` list, restricted to `names` when given (an
+/// unknown name is an error that lists the known ones).
+pub fn select_cases(quick: bool, names: Option<&[String]>) -> Result<Vec<BenchCase>> {
+    let mut cases = if quick { quick_cases() } else { full_cases() };
+    if let Some(names) = names {
+        let known: Vec<&str> = cases.iter().map(|c| c.name).collect();
+        if let Some(bad) = names.iter().find(|n| !known.contains(&n.as_str())) {
+            bail!(
+                "unknown bench case '{bad}'{}: the cases are {}",
+                if quick { " (with --quick)" } else { "" },
+                known.join(", ")
+            );
+        }
+        cases.retain(|c| names.iter().any(|n| n == c.name));
+    }
+    Ok(cases)
 }
 
 /// One timed run: a case, a backend and a thread count.
@@ -148,7 +167,7 @@ pub struct BenchRow {
     /// (fluid + wall) particle-steps per second of process CPU time: with 1 thread, an
     /// estimate of the unloaded throughput when other processes took the CPU.
     pub particle_steps_per_cpu_s: f64,
-    /// 1-minute load average at the start of the run.
+    /// 1-minute load average at the end of the case's timed blocks.
     pub load_avg: f64,
     pub version: String,
 }
@@ -229,13 +248,15 @@ pub struct BenchConfig {
     pub verbose: bool,
 }
 
-/// `slosh bench [--quick] [--out DIR] [--threads 1,2]`: runs the fixed cases, prints a table
-/// and the issue-8 checks, writes `DIR/bench.csv` (default `out/bench`). Always succeeds when
-/// the runs complete: the checks report, they do not fail the command.
+/// `slosh bench [--quick] [--out DIR] [--threads 1,2] [--case NAME,..]`: runs the fixed cases
+/// (those named by `--case` only), prints a table and the issue-8 checks, writes
+/// `DIR/bench.csv` (default `out/bench`). Always succeeds when the runs complete: the checks
+/// report, they do not fail the command.
 pub fn cli_bench(
     quick: bool,
     out: Option<PathBuf>,
     threads_list: Option<Vec<usize>>,
+    only_cases: Option<Vec<String>>,
 ) -> Result<()> {
     let machine = std::thread::available_parallelism()
         .map(|n| n.get())
@@ -250,7 +271,7 @@ pub fn cli_bench(
         None if machine > 1 => vec![machine, 1],
         None => vec![1],
     };
-    let cases = if quick { quick_cases() } else { full_cases() };
+    let cases = select_cases(quick, only_cases.as_deref())?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join("bench"));
     let config = BenchConfig {
         threads,
@@ -374,28 +395,48 @@ fn run_case<const D: usize>(
     let bytes = SolverBytes::of(&sim);
     let steps = case.steps.max(1);
     let blocks = BLOCKS.min(steps);
-    let mut rows = Vec::new();
-    for pool in pools {
-        let threads = pool.current_num_threads();
-        let load_avg = load_avg_1m();
-        let (wall_s, best_block, phases, cpu_s) = pool.install(|| -> Result<_> {
-            advance(&mut sim, REWARM_STEPS)?;
-            let p0 = sim.phase_times();
-            let cpu0 = process_cpu_s();
-            let t0 = Instant::now();
-            let mut best = f64::INFINITY;
-            let mut done = 0;
-            for b in 0..blocks {
-                let n = (steps * (b + 1)) / blocks - done;
-                let tb = Instant::now();
+    // The thread counts take turns block by block, so that a slow spell of the host (other
+    // virtual machines on the same cores and cache) falls on all of them alike and the
+    // speed-up compares like with like. One untimed step after each change of pool wakes its
+    // threads and moves the data to their caches, as a run that stays in one pool would have.
+    let mut timings: Vec<PoolTiming> = pools
+        .iter()
+        .map(|pool| {
+            pool.install(|| advance(&mut sim, REWARM_STEPS))
+                .map(|()| PoolTiming::default())
+        })
+        .collect::<Result<_>>()?;
+    let mut done = 0;
+    for b in 0..blocks {
+        let n = (steps * (b + 1)) / blocks - done;
+        done += n;
+        for (pool, timing) in pools.iter().zip(timings.iter_mut()) {
+            pool.install(|| -> Result<()> {
+                if pools.len() > 1 {
+                    advance(&mut sim, 1)?;
+                }
+                let p0 = sim.phase_times();
+                let cpu0 = process_cpu_s();
+                let t0 = Instant::now();
                 advance(&mut sim, n)?;
-                best = best.min(tb.elapsed().as_secs_f64() / n as f64);
-                done += n;
-            }
-            let wall = t0.elapsed().as_secs_f64();
-            let cpu = process_cpu_s() - cpu0;
-            Ok((wall, best, phase_delta(sim.phase_times(), p0), cpu))
-        })?;
+                let wall = t0.elapsed().as_secs_f64();
+                timing.wall_s += wall;
+                timing.cpu_s += process_cpu_s() - cpu0;
+                timing.best_step_s = timing.best_step_s.min(wall / n as f64);
+                timing.phases = phase_sum(timing.phases, phase_delta(sim.phase_times(), p0));
+                Ok(())
+            })?;
+        }
+    }
+    let mut rows = Vec::new();
+    for (pool, timing) in pools.iter().zip(&timings) {
+        let threads = pool.current_num_threads();
+        let PoolTiming {
+            wall_s,
+            cpu_s,
+            best_step_s: best_block,
+            phases,
+        } = *timing;
         let s = |x: f64| x / wall_s;
         let shares = [
             s(phases.neighbour_search),
@@ -425,7 +466,7 @@ fn run_case<const D: usize>(
             peak_rss_mb: 0.0, // filled below, after all thread counts
             cpu_util: cpu_s / (wall_s * threads as f64),
             particle_steps_per_cpu_s: (particles * steps) as f64 / cpu_s,
-            load_avg,
+            load_avg: load_avg_1m(),
             version: version.to_string(),
         };
         rows.push(row);
@@ -438,6 +479,37 @@ fn run_case<const D: usize>(
         }
     }
     Ok(rows)
+}
+
+/// The timed blocks of one pool, summed.
+#[derive(Clone, Copy, Debug)]
+struct PoolTiming {
+    wall_s: f64,
+    cpu_s: f64,
+    /// Wall time per step of the fastest block.
+    best_step_s: f64,
+    phases: PhaseTimes,
+}
+
+impl Default for PoolTiming {
+    fn default() -> Self {
+        PoolTiming {
+            wall_s: 0.0,
+            cpu_s: 0.0,
+            best_step_s: f64::INFINITY,
+            phases: PhaseTimes::default(),
+        }
+    }
+}
+
+fn phase_sum(a: PhaseTimes, b: PhaseTimes) -> PhaseTimes {
+    PhaseTimes {
+        neighbour_search: a.neighbour_search + b.neighbour_search,
+        density: a.density + b.density,
+        forces: a.forces + b.forces,
+        integration: a.integration + b.integration,
+        loads: a.loads + b.loads,
+    }
 }
 
 fn phase_delta(a: PhaseTimes, b: PhaseTimes) -> PhaseTimes {
@@ -749,18 +821,26 @@ mod tests {
             kdtree: false,
         };
         let out = std::env::temp_dir().join(format!("slosh-bench-test-{}", std::process::id()));
+        // Two pools taking turns block by block: one row each, all timed steps counted.
         let config = BenchConfig {
-            threads: vec![1],
+            threads: vec![2, 1],
             verbose: false,
         };
         let rows = run_bench(&[case], &config, &out).unwrap();
-        assert_eq!(rows.len(), 1);
+        assert_eq!(rows.len(), 2);
+        assert_eq!(rows[0].threads, 2);
+        assert_eq!(rows[1].threads, 1);
+        for r in &rows {
+            assert_eq!(r.steps, 50);
+            assert!(r.wall_s > 0.0 && r.best_block_particle_steps_per_s >= r.particle_steps_per_s);
+            assert!(r.shares.iter().sum::<f64>() <= 1.0 + 1e-9);
+        }
         let text = std::fs::read_to_string(out.join("bench.csv")).unwrap();
         let _ = std::fs::remove_dir_all(&out);
         let lines: Vec<&str> = text.lines().collect();
-        assert_eq!(lines.len(), 2);
+        assert_eq!(lines.len(), 3);
         let header: Vec<&str> = lines[0].split(',').collect();
-        let row: Vec<&str> = lines[1].split(',').collect();
+        let row: Vec<&str> = lines[2].split(',').collect();
         assert_eq!(header.len(), row.len());
         let col = |name: &str| row[header.iter().position(|h| *h == name).unwrap()];
         assert_eq!(col("case"), "micro");
@@ -773,5 +853,20 @@ mod tests {
         );
         assert!(col("particle_steps_per_s").parse::<f64>().unwrap() > 0.0);
         assert!(col("bytes_per_particle").parse::<f64>().unwrap() > 100.0);
+    }
+
+    #[test]
+    fn case_filter_keeps_named_cases_and_rejects_unknown_ones() {
+        let names = vec!["2d-80k".to_string(), "3d-100k".to_string()];
+        let picked = select_cases(false, Some(&names)).unwrap();
+        let picked: Vec<&str> = picked.iter().map(|c| c.name).collect();
+        assert_eq!(picked, ["2d-80k", "3d-100k"]);
+        let err = select_cases(true, Some(&["2d-80k".to_string()])).unwrap_err();
+        let text = format!("{err}");
+        assert!(
+            text.contains("2d-80k") && text.contains("2d-20k, 3d-100k"),
+            "{text}"
+        );
+        assert_eq!(select_cases(true, None).unwrap().len(), 2);
     }
 }

@@ -45,6 +45,9 @@ struct BenchArgs {
     /// Thread counts to time, comma-separated (default: all cores, then 1).
     #[arg(long, value_delimiter = ',')]
     threads: Option<Vec<usize>>,
+    /// Only these cases, comma-separated (e.g. `--case 2d-80k`); names as in bench.csv.
+    #[arg(long, value_delimiter = ',')]
+    case: Option<Vec<String>>,
 }
 
 #[derive(Args)]
@@ -148,7 +151,9 @@ fn main() -> ExitCode {
         Command::Run(args) => cmd_run(args),
         Command::Sweep(args) => cmd_sweep(args),
         Command::Theory(args) => cmd_theory(args),
-        Command::Bench(args) => slosh_cli::bench::cli_bench(args.quick, args.out, args.threads),
+        Command::Bench(args) => {
+            slosh_cli::bench::cli_bench(args.quick, args.out, args.threads, args.case)
+        }
         Command::Validate(args) => {
             match slosh_cli::validate::cli_validate(args.quick, args.out, args.only) {
                 Ok(true) => Ok(()),
