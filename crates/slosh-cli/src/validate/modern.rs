@@ -43,12 +43,12 @@ const RESONANT_BAND: (f64, f64) = (0.75, 1.25);
 const ROUGHNESS_FACTOR: f64 = 2.0;
 
 /// What is known of the modern scheme's roof-pressure roughness (issue 7 stays open on it).
-const ROOF_GAP: &str = "issue 7: with the wall pressure floored at zero (wall_separation) the \
-    liquid no longer sticks to the roof, but the fluid pressure under the roof still rings at \
-    the step scale while the wave is in contact (the wall-pressure method does not matter: \
-    kernel extrapolation 0.053, nearest fluid 0.056); particle shifting removes most of it \
-    (row below) but is off by default: it raises the dam-break wall pressures (three-sensor \
-    mean +21 % → +38 %, Buchner first peak +8 % → +51 %)";
+const ROOF_GAP: &str = "issue 7: spikes shorter than the sound crossing of one kernel support \
+    remain in the modern history; particle shifting removes most of them (row below) but is off \
+    by default: it raises the dam-break wall pressures (three-sensor mean +21 % → +38 %, \
+    Buchner first peak +8 % → +51 %)";
+/// Start (s after the excitation start) of the roof-pressure plot: the first contact is at ≈ 1 s.
+const PLOT_ROOF_FROM_S: f64 = 0.9;
 /// Particle-shifting coefficient of the roof-impact comparison row (Skillen et al. 2013 use 2).
 const SHIFTING_COMPARED: f64 = 2.0;
 
@@ -349,14 +349,18 @@ fn forced(ctx: &Context) -> GroupResult {
 }
 
 /// Roughness of a pressure history: RMS of its departure from the centred running mean over
-/// ±`half` s, divided by the largest value of that running mean. Spikes a few steps long
-/// (spurious) raise it; a physical impact pulse tens of ms long barely does.
-fn roughness(ts: &[f64], ps: &[f64], half: f64) -> f64 {
+/// ±`half` s, divided by the largest value of the ±`scale_half` s running mean (the level of
+/// the impact pulses). With `half` at the acoustic crossing time of one kernel support
+/// ([`RoofRun::support_crossing_s`]) it measures spikes shorter than anything the scheme can
+/// resolve — the spurious ones; with `half` = 10 ms it also counts the ringing of the impact
+/// pulses themselves.
+fn roughness(ts: &[f64], ps: &[f64], half: f64, scale_half: f64) -> f64 {
     if ts.len() < 3 {
         return f64::NAN;
     }
+    let level = running_mean(ts, ps, scale_half);
+    let peak = level.iter().fold(0.0f64, |m, &v| m.max(v));
     let mean = running_mean(ts, ps, half);
-    let peak = mean.iter().fold(0.0f64, |m, &v| m.max(v));
     let departure: Vec<f64> = ps.iter().zip(&mean).map(|(p, m)| p - m).collect();
     rms(&departure) / peak
 }
@@ -382,6 +386,9 @@ struct RoofRun {
     windowed: Vec<f64>,
     particle_steps: f64,
     inside: Check,
+    /// Time (s) sound takes to cross one kernel support, 2h/c₀: the shortest time scale of
+    /// pressure the scheme resolves.
+    support_crossing_s: f64,
 }
 
 fn roof_run(
@@ -443,6 +450,7 @@ fn roof_run(
         windowed,
         particle_steps,
         inside: stayed_inside(group, &sim),
+        support_crossing_s: sim.kernel().support() / sim.sound_speed(),
     })
 }
 
@@ -487,23 +495,46 @@ fn roof_impact(ctx: &Context) -> GroupResult {
     };
     g.particle_steps = modern.particle_steps + paper.particle_steps;
     g.checks.push(modern.inside.clone());
-    let half = 0.01;
-    let rough =
-        |r: &RoofRun, raw: bool| roughness(&r.t, if raw { &r.raw } else { &r.windowed }, half);
-    let (m_raw, p_raw) = (rough(&modern, true), rough(&paper, true));
-    let (m_win, p_win) = (rough(&modern, false), rough(&paper, false));
-    let factor = p_raw / m_raw;
+    // Spikes: departures from the running mean over ± the longer of the two schemes' support
+    // crossing times (≈ 2 ms), scaled by the ±10 ms level of the impact pulses.
+    let level_half = 0.01;
+    let spike_half = modern.support_crossing_s.max(paper.support_crossing_s);
+    let rough = |r: &RoofRun, raw: bool, half: f64| {
+        roughness(
+            &r.t,
+            if raw { &r.raw } else { &r.windowed },
+            half,
+            level_half,
+        )
+    };
+    let (m_spike, p_spike) = (
+        rough(&modern, true, spike_half),
+        rough(&paper, true, spike_half),
+    );
+    let (m_raw, p_raw) = (
+        rough(&modern, true, level_half),
+        rough(&paper, true, level_half),
+    );
+    let (m_win, p_win) = (
+        rough(&modern, false, level_half),
+        rough(&paper, false, level_half),
+    );
+    let factor = p_spike / m_spike;
     g.checks.push(open_if_failed(
         Check {
             group: group.into(),
-            name: "roughness of the instantaneous peak roof pressure: paper ÷ modern".into(),
-            measured: format!("{factor:.1}× (paper {p_raw:.3}, modern {m_raw:.3})"),
+            name: "spikes of the instantaneous peak roof pressure: paper ÷ modern".into(),
+            measured: format!("{factor:.1}× (paper {p_spike:.4}, modern {m_spike:.4})"),
             reference: format!("≥ {ROUGHNESS_FACTOR:.0}×"),
             error: format!("{factor:.1}×"),
             tolerance: format!("≥ {ROUGHNESS_FACTOR:.0}×"),
-            reason: "issue 7: the modern history without the paper scheme's spurious spikes; \
-                 roughness = RMS departure from the ±10 ms running mean ÷ its peak"
-                .into(),
+            reason: format!(
+                "issue 7: the modern history without the paper scheme's spurious spikes; spikes \
+                 = RMS departure from the ±{:.1} ms running mean (sound crossing one kernel \
+                 support, 2h/c₀: nothing shorter is resolved physics) ÷ the peak of the ±10 ms \
+                 mean",
+                1e3 * spike_half
+            ),
             verdict: if factor >= ROUGHNESS_FACTOR {
                 Verdict::Pass
             } else {
@@ -512,16 +543,27 @@ fn roof_impact(ctx: &Context) -> GroupResult {
         },
         ROOF_GAP,
     ));
+    g.checks.push(info_row(
+        group,
+        "roughness over ±10 ms of the instantaneous peak roof pressure: paper ÷ modern",
+        format!(
+            "{:.1}× (paper {p_raw:.3}, modern {m_raw:.3})",
+            p_raw / m_raw
+        ),
+        "-".into(),
+        "-".into(),
+        "reported: departures from the ±10 ms running mean also count the impact pulses' own \
+         ringing (≈ 13 ms period in the modern history), which is resolved, not spurious; the \
+         paper scheme's figure moves by 2× between builds (its spikes are chaotic)",
+    ));
     match &shifted {
         Ok(shifted) => {
-            let s_raw = rough(shifted, true);
+            let s_spike = rough(shifted, true, spike_half);
             g.particle_steps += shifted.particle_steps;
             g.checks.push(info_row(
                 group,
-                &format!(
-                    "roughness with particle shifting (A = {SHIFTING_COMPARED}): paper ÷ modern"
-                ),
-                format!("{:.1}× (modern + shifting {s_raw:.3})", p_raw / s_raw),
+                &format!("spikes with particle shifting (A = {SHIFTING_COMPARED}): paper ÷ modern"),
+                format!("{:.1}× (modern + shifting {s_spike:.4})", p_spike / s_spike),
                 format!("≥ {ROUGHNESS_FACTOR:.0}×"),
                 "-".into(),
                 "reported: shifting is off in the modern preset, as it raises the dam-break wall \
@@ -554,6 +596,19 @@ fn roof_impact(ctx: &Context) -> GroupResult {
         "-".into(),
         "reported: the impact peak (paper Fig. 8: 0.6 m tank)",
     ));
+    // The contacts start ≈ 1 s after the excitation: the plot shows them, not the settling.
+    let from = PLOT_ROOF_FROM_S;
+    let tail = |r: &RoofRun| {
+        let k = r.t.partition_point(|&t| t < from);
+        (
+            r.t[k..].to_vec(),
+            r.raw[k..].to_vec(),
+            r.windowed[k..].to_vec(),
+        )
+    };
+    let (pt, praw, pwin) = tail(&paper);
+    let (mt, mraw, mwin) = tail(&modern);
+    let shifted_tail = shifted.as_ref().ok().map(tail);
     let stem = "modern_roof_pressure";
     let _ = line_plot(
         plot_path(&ctx.out, stem),
@@ -563,18 +618,14 @@ fn roof_impact(ctx: &Context) -> GroupResult {
             "largest roof pressure (Pa)",
         ),
         &[
-            Series::line("paper scheme, instantaneous", &paper.t, &paper.raw),
-            Series::line("modern scheme, instantaneous", &modern.t, &modern.raw),
-            Series::dashed("paper scheme, ±20 steps", &paper.t, &paper.windowed),
-            Series::dashed("modern scheme, ±20 steps", &modern.t, &modern.windowed),
+            Series::line("paper scheme, instantaneous", &pt, &praw),
+            Series::line("modern scheme, instantaneous", &mt, &mraw),
+            Series::dashed("paper scheme, ±20 steps", &pt, &pwin),
+            Series::dashed("modern scheme, ±20 steps", &mt, &mwin),
         ]
         .into_iter()
-        .chain(shifted.as_ref().ok().map(|s| {
-            Series::line(
-                "modern scheme + particle shifting, instantaneous",
-                &s.t,
-                &s.raw,
-            )
+        .chain(shifted_tail.as_ref().map(|(st, sraw, _)| {
+            Series::line("modern scheme + particle shifting, instantaneous", st, sraw)
         }))
         .collect::<Vec<_>>(),
     );

@@ -815,7 +815,7 @@ pub(crate) fn running_mean(ts: &[f64], ys: &[f64], half: f64) -> Vec<f64> {
     let mut out = Vec::with_capacity(ts.len());
     let (mut lo, mut hi) = (0usize, 0usize);
     let mut sum = 0.0;
-    for (k, &t) in ts.iter().enumerate() {
+    for &t in ts {
         while hi < ts.len() && ts[hi] <= t + half {
             sum += ys[hi];
             hi += 1;
@@ -824,7 +824,6 @@ pub(crate) fn running_mean(ts: &[f64], ys: &[f64], half: f64) -> Vec<f64> {
             sum -= ys[lo];
             lo += 1;
         }
-        let _ = k;
         out.push(sum / (hi - lo) as f64);
     }
     out
