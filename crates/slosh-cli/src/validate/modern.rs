@@ -38,11 +38,11 @@ const SLOPE_TOL: f64 = 0.02;
 const SCATTER_FACTOR: f64 = 5.0;
 /// Resonant crest band of the modern scheme: within 25 % of undamped linear theory (issue 7).
 const RESONANT_BAND: (f64, f64) = (0.75, 1.25);
-/// Roof-pressure roughness: the modern scheme's must be at most half the paper scheme's (a
-/// history "without the spurious spikes").
+/// Roof-pressure spikes (step-scale departures, see [`roughness`]): the modern scheme's must be
+/// at most half the paper scheme's (a history "without the spurious spikes").
 const ROUGHNESS_FACTOR: f64 = 2.0;
 
-/// What is known of the modern scheme's roof-pressure roughness (issue 7 stays open on it).
+/// What is known of the modern scheme's roof-pressure spikes, shown if that row fails.
 const ROOF_GAP: &str = "issue 7: spikes shorter than the sound crossing of one kernel support \
     remain in the modern history; particle shifting removes most of them (row below) but is off \
     by default: it raises the dam-break wall pressures (three-sensor mean +21 % → +38 %, \
