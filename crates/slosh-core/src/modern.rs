@@ -688,16 +688,6 @@ struct WallPairTerms<'a, const D: usize> {
     wall_vel: &'a [Vector<D>],
 }
 
-/// The fluid particle i of a row of pairs.
-struct PairOwner<const D: usize> {
-    x: Vector<D>,
-    v: Vector<D>,
-    rho: f64,
-    inv_rho: f64,
-    p: f64,
-    strain: Tensor<D>,
-}
-
 /// One fluid–wall pair's shares of i's sums: acceleration, dρ/dt, and the shifting's ∇C and
 /// kernel sum.
 struct WallPairTerm<const D: usize> {
@@ -747,7 +737,7 @@ impl<'a, const D: usize> WallPairTerms<'a, D> {
     /// the wall's pressure (and velocity when mirrored), the continuity term of the wall's
     /// velocity (zero: the tank frame), and the shifting sums.
     #[inline(always)]
-    fn wall_term(&self, o: &PairOwner<D>, w: usize) -> Option<WallPairTerm<D>> {
+    fn wall_term(&self, o: &ForceOwner<D>, w: usize) -> Option<WallPairTerm<D>> {
         let c = self.c;
         let m = c.mass;
         let xiw = o.x - self.wall_pos[w];
@@ -887,7 +877,7 @@ fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
                 ksum += m * inv_rho_j * kernel.value(r);
             }
         });
-        let owner = PairOwner {
+        let owner = ForceOwner {
             x: xi,
             v: vi,
             rho: rho_i,
@@ -1131,7 +1121,7 @@ fn modern_force_pass_sorted<const D: usize>(
                     }
                 }
             });
-            let owner = PairOwner {
+            let owner = ForceOwner {
                 x: xi,
                 v: vi,
                 rho: rho_i,

@@ -1286,90 +1286,34 @@ fn force_pass<const D: usize, S: NeighbourSearch<D>>(
     walls: &Walls<D>,
     body_force: Vector<D>,
 ) {
-    let kernel = c.kernel;
-    let m = c.mass;
-    let h = kernel.h;
-    let eps_h2 = 0.01 * h * h; // φ of Eq. 11
-    let pos = &fluid.position;
-    let vel = &fluid.velocity;
-    let rho = &fluid.density;
-    let inv_rho = &fluid.inverse_density;
-    let p = &fluid.pressure;
-    let strain = &fluid.strain_rate;
-    let viscous = c.viscosity > 0.0;
-    let av_on = c.av_alpha > 0.0 || c.av_beta > 0.0;
-    // Eq. 10: Π_ij = (−α c̄ φ + β φ²)/ρ̄ for approaching pairs, 0 otherwise.
-    let artificial_viscosity = |vij: Vector<D>, xij: Vector<D>, r2: f64, rho_mean: f64| -> f64 {
-        let v_dot_x = vij.dot(&xij);
-        if v_dot_x < 0.0 {
-            let phi = h * v_dot_x / (r2 + eps_h2); // Eq. 11
-            (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) / rho_mean
-        } else {
-            0.0
-        }
-    };
+    // The acceleration leaves the fluid while the sweep reads the rest of it (no allocation:
+    // an empty Vec stands in).
+    let mut acceleration = std::mem::take(&mut fluid.acceleration);
+    let sweep = ForceSweep::new(c, fluid, walls);
+    let support_sq = c.support_sq;
     let lists = &fluid.neighbours;
     let capacity = lists.capacity;
-    let wall_pos = &walls.position;
-    let wall_rho = &walls.density;
-    let wall_inv_rho = &walls.inverse_density;
-    let wall_p = &walls.pressure;
-    fluid
-        .acceleration
+    acceleration
         .par_iter_mut()
         .enumerate()
         .with_min_len(PAR_CHUNK)
         .for_each(|(i, acc_out)| {
-            let xi = pos[i];
-            let vi = vel[i];
-            let rho_i = rho[i];
-            let inv_rho_i = inv_rho[i];
-            let p_i = p[i];
-            let strain_i = strain[i];
+            let s = &sweep;
+            let o = s.owner(i);
             let mut acc = Vector::<D>::zeros();
-            let fluid_term = |acc: &mut Vector<D>, j: usize| {
-                if j == i {
-                    return;
-                }
-                let xij = xi - pos[j];
+            // Every pair seen from both sides, each side adding its own share (Eq. 8–16).
+            let fluid_pair = |acc: &mut Vector<D>, j: usize| {
+                let xij = o.x - s.pos[j];
                 let r2 = xij.norm_squared();
-                if r2 >= c.support_sq {
-                    return;
-                }
-                let r = r2.sqrt();
-                let grad_w = xij * kernel.gradient_factor(r);
-                let rho_j = rho[j];
-                let inv_rho_ij = inv_rho_i * inv_rho[j];
-                // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
-                let mut scalar = -(p_i + p[j]) * inv_rho_ij;
-                if av_on {
-                    scalar -= artificial_viscosity(vi - vel[j], xij, r2, 0.5 * (rho_i + rho_j));
-                }
-                *acc += grad_w * (m * scalar);
-                if viscous {
-                    // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W.
-                    *acc += (strain_i + strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
+                if j != i && r2 < support_sq {
+                    *acc += s.fluid_term(&o, j, xij, r2);
                 }
             };
-            let wall_term = |acc: &mut Vector<D>, w: usize| {
-                let xiw = xi - wall_pos[w];
+            let wall_pair = |acc: &mut Vector<D>, w: usize| {
+                let xiw = o.x - s.wall_pos[w];
                 let r2 = xiw.norm_squared();
-                if r2 >= c.support_sq {
-                    return;
-                }
-                let r = r2.sqrt();
-                let grad_w = xiw * kernel.gradient_factor(r);
-                let rho_w = wall_rho[w];
-                let inv_rho_iw = inv_rho_i * wall_inv_rho[w];
-                // Wall particles: σ_w = −p_w I (free slip: no viscous stress from the wall),
-                // velocity zero in the artificial viscosity.
-                let mut scalar = -(p_i + wall_p[w]) * inv_rho_iw;
-                if av_on {
-                    scalar -= artificial_viscosity(vi, xiw, r2, 0.5 * (rho_i + rho_w));
-                }
-                *acc += grad_w * (m * scalar);
-                if viscous {
-                    *acc += strain_i * grad_w * (m * c.viscosity * inv_rho_iw);
+                if r2 < support_sq {
+                    *acc += s.wall_term(&o, w, xiw, r2);
                 }
             };
             let count = lists.count[i];
@@ -1377,17 +1321,18 @@ fn force_pass<const D: usize, S: NeighbourSearch<D>>(
                 // The density pass's list: the same neighbours in the same order as a search.
                 for &entry in &lists.entries[i * capacity..i * capacity + count as usize] {
                     if entry & WALL_NEIGHBOUR == 0 {
-                        fluid_term(&mut acc, entry as usize);
+                        fluid_pair(&mut acc, entry as usize);
                     } else {
-                        wall_term(&mut acc, (entry & !WALL_NEIGHBOUR) as usize);
+                        wall_pair(&mut acc, (entry & !WALL_NEIGHBOUR) as usize);
                     }
                 }
             } else {
-                search.for_each_fluid_candidate(&xi, |j| fluid_term(&mut acc, j));
-                search.for_each_wall_candidate(&xi, |w| wall_term(&mut acc, w));
+                search.for_each_fluid_candidate(&o.x, |j| fluid_pair(&mut acc, j));
+                search.for_each_wall_candidate(&o.x, |w| wall_pair(&mut acc, w));
             }
             *acc_out = acc + body_force;
         });
+    fluid.acceleration = acceleration;
 }
 
 /// A slice written through by the blocks of one colour of a pair sweep (`colour_sweep`),
@@ -1769,7 +1714,7 @@ struct ForceSweep<'a, const D: usize> {
     wall_p: &'a [f64],
 }
 
-/// The particle i of a row of pairs in the force sweep.
+/// The fluid particle i of a row of pairs in a force sweep (paper and modern steps).
 struct ForceOwner<const D: usize> {
     x: Vector<D>,
     v: Vector<D>,
@@ -1779,7 +1724,41 @@ struct ForceOwner<const D: usize> {
     strain: Tensor<D>,
 }
 
-impl<const D: usize> ForceSweep<'_, D> {
+impl<'a, const D: usize> ForceSweep<'a, D> {
+    /// The sweep over `fluid` (its acceleration is not read) and `walls`.
+    fn new(c: &PassConstants, fluid: &'a Fluid<D>, walls: &'a Walls<D>) -> Self {
+        let h = c.kernel.h;
+        ForceSweep {
+            c: *c,
+            eps_h2: 0.01 * h * h, // φ of Eq. 11
+            viscous: c.viscosity > 0.0,
+            av_on: c.av_alpha > 0.0 || c.av_beta > 0.0,
+            pos: &fluid.position,
+            vel: &fluid.velocity,
+            rho: &fluid.density,
+            inv_rho: &fluid.inverse_density,
+            p: &fluid.pressure,
+            strain: &fluid.strain_rate,
+            wall_pos: &walls.position,
+            wall_rho: &walls.density,
+            wall_inv_rho: &walls.inverse_density,
+            wall_p: &walls.pressure,
+        }
+    }
+
+    /// Fluid particle i as the owner of a row of pairs.
+    #[inline(always)]
+    fn owner(&self, i: usize) -> ForceOwner<D> {
+        ForceOwner {
+            x: self.pos[i],
+            v: self.vel[i],
+            rho: self.rho[i],
+            inv_rho: self.inv_rho[i],
+            p: self.p[i],
+            strain: self.strain[i],
+        }
+    }
+
     /// 1/r (the kernel gradient), 1/(r² + 0.01 h²) (Eq. 11) and 1/ρ̄ of a pair at squared
     /// distance r2 with ρ_i + ρ_j = rho_pair, from one division: `inv` = 1/(r s (ρ_i + ρ_j))
     /// with s = r² + 0.01 h². r is floored (far below the kernel's r = 0 cut-off) so that
@@ -1868,45 +1847,24 @@ fn force_pass_sorted<const D: usize>(
     walls: &Walls<D>,
     body_force: Vector<D>,
 ) {
-    let h = c.kernel.h;
-    let sweep = ForceSweep {
-        c: *c,
-        eps_h2: 0.01 * h * h, // φ of Eq. 11
-        viscous: c.viscosity > 0.0,
-        av_on: c.av_alpha > 0.0 || c.av_beta > 0.0,
-        pos: &fluid.position,
-        vel: &fluid.velocity,
-        rho: &fluid.density,
-        inv_rho: &fluid.inverse_density,
-        p: &fluid.pressure,
-        strain: &fluid.strain_rate,
-        wall_pos: &walls.position,
-        wall_rho: &walls.density,
-        wall_inv_rho: &walls.inverse_density,
-        wall_p: &walls.pressure,
-    };
+    // The acceleration leaves the fluid while the sweep reads the rest of it (no allocation:
+    // an empty Vec stands in).
+    let mut acceleration = std::mem::take(&mut fluid.acceleration);
+    let sweep = ForceSweep::new(c, fluid, walls);
     let support_sq = c.support_sq;
     let list_entries = fluid.neighbours.entries.as_slice();
     let list_count = fluid.neighbours.count.as_slice();
     let list_start = fluid.neighbours.start.as_slice();
-    fluid
-        .acceleration
+    acceleration
         .par_iter_mut()
         .with_min_len(PAR_CHUNK)
         .for_each(|a| *a = body_force);
-    let acc_shared = SharedSlice::new(&mut fluid.acceleration);
+    let acc_shared = SharedSlice::new(&mut acceleration);
     colour_sweep(blocks, |_, begin, end| {
         let s = &sweep;
         let (pos, wall_pos) = (s.pos, s.wall_pos);
         for i in begin..end {
-            let o = ForceOwner {
-                x: pos[i],
-                v: s.vel[i],
-                rho: s.rho[i],
-                inv_rho: s.inv_rho[i],
-                p: s.p[i],
-                strain: s.strain[i],
-            };
+            let o = s.owner(i);
             let xi = o.x;
             let mut acc = Vector::<D>::zeros();
             let count = list_count[i];
@@ -1959,6 +1917,7 @@ fn force_pass_sorted<const D: usize>(
             }
         }
     });
+    fluid.acceleration = acceleration;
 }
 
 /// Reorders `values` by `order` (new[k] = old[order[k]]) through a scratch buffer of the same
