@@ -663,29 +663,61 @@ fn wall_pass<const D: usize, S: NeighbourSearch<D>>(
         });
 }
 
-/// Force pass of the modern step: the momentum equation of the paper (Eq. 8–16) with the
-/// wall treatment chosen, and in the same pair loop the continuity equation
-/// dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij (Monaghan 1992; walls at rest) with the δ-SPH
-/// diffusion term (Molteni & Colagrossi 2009; Fourtakas et al. 2019), and the shifting
-/// gradient ∇C_i = Σ_j V_j ∇_i W_ij.
-/// What the fluid–wall pair term of the modern force pass reads: one copy for both neighbour
-/// backends, its methods always inlined into their sweeps.
-struct WallPairTerms<'a, const D: usize> {
+/// What the pair terms of the modern force pass read: one copy for both neighbour backends,
+/// its methods always inlined into their sweeps.
+struct ModernPairTerms<'a, const D: usize> {
     c: &'a PassConstants,
     /// 0.01 h² of Eq. 11.
     eps_h2: f64,
+    viscous: bool,
+    av_on: bool,
     /// Walls in the artificial viscosity and the viscous term: dynamic walls as the paper
     /// (wall at rest), Adami free-slip none, Adami no-slip the mirrored velocity.
     wall_av: bool,
     wall_viscous: bool,
     mirrored: bool,
     continuity: bool,
+    /// 0: none, 1: Molteni–Colagrossi, 2: Fourtakas.
+    diffusion: u8,
+    /// ψ_ij·∇_i W_ij = 2 (ρ_j − ρ_i) x_ji·x_ij F/r² = −2 (ρ_j − ρ_i) F, F = (dW/dr)/r: the
+    /// factor −2 δ h c0 of (ρ_j − ρ_i) F.
+    diff_coeff: f64,
     shifting: bool,
+    pos: &'a [Vector<D>],
+    vel: &'a [Vector<D>],
+    rho: &'a [f64],
+    inv_rho: &'a [f64],
+    p: &'a [f64],
+    strain: &'a [Tensor<D>],
+    /// Hydrostatic density of Fourtakas' diffusion (kg/m³).
+    rho_h: &'a [f64],
     wall_pos: &'a [Vector<D>],
     wall_rho: &'a [f64],
     wall_inv_rho: &'a [f64],
     wall_p: &'a [f64],
     wall_vel: &'a [Vector<D>],
+}
+
+/// Fluid particle i of a row of modern pairs.
+struct ModernOwner<const D: usize> {
+    f: ForceOwner<D>,
+    /// m/ρ_i (m³, 2D: m²).
+    volume: f64,
+    /// The density the diffusion term differences: ρ_i, or ρ_i − ρ_H,i (Fourtakas).
+    rho_dyn: f64,
+}
+
+/// One fluid pair's shares (i within the support of j).
+struct FluidPairTerm<const D: usize> {
+    /// Acceleration of i (Eq. 8); j gets its negative.
+    acc: Vector<D>,
+    /// dρ_i/dt and dρ_j/dt: continuity m (v_i − v_j)·∇_i W_ij plus the diffusion terms.
+    drho_i: f64,
+    drho_j: f64,
+    /// ∇_i W_ij and W_ij (the latter only with shifting) and m/ρ_j, for the shifting sums.
+    grad_w: Vector<D>,
+    w: f64,
+    volume_j: f64,
 }
 
 /// One fluid–wall pair's shares of i's sums: acceleration, dρ/dt, and the shifting's ∇C and
@@ -697,29 +729,70 @@ struct WallPairTerm<const D: usize> {
     kernel_sum: f64,
 }
 
-impl<'a, const D: usize> WallPairTerms<'a, D> {
+impl<'a, const D: usize> ModernPairTerms<'a, D> {
+    /// The terms over `fluid` (its acceleration and density rate are not read), `walls` and
+    /// the modern state's hydrostatic density and wall velocity.
     fn new(
         c: &'a PassConstants,
-        k: &ModernConstants,
+        fluid: &'a Fluid<D>,
         walls: &'a Walls<D>,
-        wall_vel: &'a [Vector<D>],
+        st: &'a ModernState<D>,
     ) -> Self {
+        let k = &st.k;
         let h = c.kernel.h;
         let viscous = c.viscosity > 0.0;
         let av_on = c.av_alpha > 0.0 || c.av_beta > 0.0;
-        WallPairTerms {
+        ModernPairTerms {
             c,
             eps_h2: 0.01 * h * h, // φ of Eq. 11
+            viscous,
+            av_on,
             wall_av: av_on && (!k.adami || k.no_slip),
             wall_viscous: viscous && (!k.adami || k.no_slip),
             mirrored: k.adami && k.no_slip,
             continuity: k.continuity,
+            diffusion: k.diffusion,
+            diff_coeff: -2.0 * k.diffusion_coeff,
             shifting: k.shifting.is_some(),
+            pos: &fluid.position,
+            vel: &fluid.velocity,
+            rho: &fluid.density,
+            inv_rho: &fluid.inverse_density,
+            p: &fluid.pressure,
+            strain: &fluid.strain_rate,
+            rho_h: &st.hydro_density,
             wall_pos: &walls.position,
             wall_rho: &walls.density,
             wall_inv_rho: &walls.inverse_density,
             wall_p: &walls.pressure,
-            wall_vel,
+            wall_vel: &st.wall_velocity,
+        }
+    }
+
+    /// The density of particle i the diffusion term differences.
+    #[inline(always)]
+    fn rho_dyn(&self, i: usize) -> f64 {
+        if self.diffusion == 2 {
+            self.rho[i] - self.rho_h[i]
+        } else {
+            self.rho[i]
+        }
+    }
+
+    #[inline(always)]
+    fn owner(&self, i: usize) -> ModernOwner<D> {
+        let f = ForceOwner {
+            x: self.pos[i],
+            v: self.vel[i],
+            rho: self.rho[i],
+            inv_rho: self.inv_rho[i],
+            p: self.p[i],
+            strain: self.strain[i],
+        };
+        ModernOwner {
+            volume: self.c.mass * f.inv_rho,
+            rho_dyn: self.rho_dyn(i),
+            f,
         }
     }
 
@@ -731,6 +804,63 @@ impl<'a, const D: usize> WallPairTerms<'a, D> {
         let v_dot_x = vij.dot(&xij).min(0.0);
         let phi = c.kernel.h * v_dot_x / (r2 + self.eps_h2); // Eq. 11
         (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) / rho_mean
+    }
+
+    /// The pair of fluid particles i (`o`) and j at squared distance r2 within the support:
+    /// Eq. 8 (pressure, artificial viscosity, viscous stress), the continuity equation
+    /// dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij (Monaghan 1992) with the δ-SPH diffusion term
+    /// (Molteni & Colagrossi 2009; Fourtakas et al. 2019), and what the shifting sums need.
+    #[inline(always)]
+    fn fluid_pair(
+        &self,
+        o: &ModernOwner<D>,
+        j: usize,
+        xij: Vector<D>,
+        r2: f64,
+    ) -> FluidPairTerm<D> {
+        let c = self.c;
+        let m = c.mass;
+        let r = r2.sqrt();
+        let f = c.kernel.gradient_factor(r);
+        let grad_w = xij * f;
+        let rho_j = self.rho[j];
+        let inv_rho_j = self.inv_rho[j];
+        let volume_j = m * inv_rho_j;
+        let inv_rho_ij = o.f.inv_rho * inv_rho_j;
+        let vij = o.f.v - self.vel[j];
+        // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
+        let mut scalar = -(o.f.p + self.p[j]) * inv_rho_ij;
+        if self.av_on {
+            scalar -= self.artificial_viscosity(vij, xij, r2, 0.5 * (o.f.rho + rho_j));
+        }
+        let mut acc = grad_w * (m * scalar);
+        if self.viscous {
+            // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W (Eq. 8, 3).
+            acc += (o.f.strain + self.strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
+        }
+        let (mut drho_i, mut drho_j) = (0.0, 0.0);
+        if self.continuity {
+            let d = m * vij.dot(&grad_w);
+            (drho_i, drho_j) = (d, d);
+            if self.diffusion != 0 {
+                let psi = self.diff_coeff * (self.rho_dyn(j) - o.rho_dyn) * f;
+                drho_i += psi * volume_j;
+                drho_j -= psi * o.volume;
+            }
+        }
+        let w = if self.shifting {
+            c.kernel.value(r)
+        } else {
+            0.0
+        };
+        FluidPairTerm {
+            acc,
+            drho_i,
+            drho_j,
+            grad_w,
+            w,
+            volume_j,
+        }
     }
 
     /// The pair of fluid particle `o` and wall particle `w` if within the support: Eq. 8 with
@@ -782,6 +912,11 @@ impl<'a, const D: usize> WallPairTerms<'a, D> {
     }
 }
 
+/// Force pass of the modern step: the momentum equation of the paper (Eq. 8–16) with the
+/// wall treatment chosen, and in the same pair loop the continuity equation
+/// dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij (Monaghan 1992; walls at rest) with the δ-SPH
+/// diffusion term (Molteni & Colagrossi 2009; Fourtakas et al. 2019), and the shifting
+/// gradient ∇C_i = Σ_j V_j ∇_i W_ij. Every pair is seen from both of its particles.
 fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
     search: &S,
     c: &PassConstants,
@@ -790,138 +925,82 @@ fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
     st: &mut ModernState<D>,
     body_force: Vector<D>,
 ) {
-    let k = st.k;
-    let kernel = c.kernel;
-    let m = c.mass;
-    let pos = &fluid.position;
-    let vel = &fluid.velocity;
-    let rho = &fluid.density;
-    let inv_rho = &fluid.inverse_density;
-    let p = &fluid.pressure;
-    let strain = &fluid.strain_rate;
-    let rho_h = &st.hydro_density;
-    let wall_vel = &st.wall_velocity;
-    let viscous = c.viscosity > 0.0;
-    let av_on = c.av_alpha > 0.0 || c.av_beta > 0.0;
-    let continuity = k.continuity;
-    let diffusion = k.diffusion;
-    // ψ_ij·∇_i W_ij = 2 (ρ_j − ρ_i) x_ji·x_ij F/r² = −2 (ρ_j − ρ_i) F, F = (dW/dr)/r.
-    let diff_coeff = -2.0 * k.diffusion_coeff;
-    let shifting = k.shifting.is_some();
-    let wall_terms = WallPairTerms::new(c, &k, walls, wall_vel);
-    let mut no_vec: [Vector<D>; 0] = [];
-    let mut no_f64: [f64; 0] = [];
-    let (shift_grad, shift_ksum): (&mut [Vector<D>], &mut [f64]) = if shifting {
-        (&mut st.shift_gradient, &mut st.shift_kernel_sum)
-    } else {
-        (&mut no_vec, &mut no_f64)
-    };
-    let pair_loop = |i: usize, acc_out: &mut Vector<D>, drho_out: &mut f64| -> (Vector<D>, f64) {
-        let xi = pos[i];
-        let vi = vel[i];
-        let rho_i = rho[i];
-        let inv_rho_i = inv_rho[i];
-        let p_i = p[i];
-        let strain_i = strain[i];
-        let rho_dyn_i = if diffusion == 2 {
-            rho_i - rho_h[i]
+    let shifting = st.k.shifting.is_some();
+    let w0 = c.kernel.value(0.0);
+    // The arrays written leave the fluid and the state while the pair terms read the rest
+    // (no allocation: empty Vecs stand in).
+    let mut acceleration = std::mem::take(&mut fluid.acceleration);
+    let mut density_rate = std::mem::take(&mut fluid.density_rate);
+    let mut shift_gradient = std::mem::take(&mut st.shift_gradient);
+    let mut shift_kernel_sum = std::mem::take(&mut st.shift_kernel_sum);
+    {
+        let terms = ModernPairTerms::new(c, fluid, walls, st);
+        let pair_loop =
+            |i: usize, acc_out: &mut Vector<D>, drho_out: &mut f64| -> (Vector<D>, f64) {
+                let t = &terms;
+                let o = t.owner(i);
+                let mut acc = Vector::<D>::zeros();
+                let mut drho = 0.0;
+                let mut grad_c = Vector::<D>::zeros();
+                let mut ksum = 0.0;
+                search.for_each_fluid_candidate(&o.f.x, |j| {
+                    if j == i {
+                        if shifting {
+                            ksum += o.volume * w0;
+                        }
+                        return;
+                    }
+                    let xij = o.f.x - t.pos[j];
+                    let r2 = xij.norm_squared();
+                    if r2 >= c.support_sq {
+                        return;
+                    }
+                    let pair = t.fluid_pair(&o, j, xij, r2);
+                    acc += pair.acc;
+                    drho += pair.drho_i;
+                    if shifting {
+                        grad_c += pair.grad_w * pair.volume_j;
+                        ksum += pair.volume_j * pair.w;
+                    }
+                });
+                search.for_each_wall_candidate(&o.f.x, |w| {
+                    if let Some(wall) = t.wall_term(&o.f, w) {
+                        acc += wall.acc;
+                        drho += wall.drho;
+                        grad_c += wall.grad_c;
+                        ksum += wall.kernel_sum;
+                    }
+                });
+                *acc_out = acc + body_force;
+                *drho_out = drho;
+                (grad_c, ksum)
+            };
+        if shifting {
+            acceleration
+                .par_iter_mut()
+                .zip(density_rate.par_iter_mut())
+                .zip(shift_gradient.par_iter_mut())
+                .zip(shift_kernel_sum.par_iter_mut())
+                .enumerate()
+                .with_min_len(PAR_CHUNK)
+                .for_each(|(i, (((acc, drho), g), ks))| {
+                    (*g, *ks) = pair_loop(i, acc, drho);
+                });
         } else {
-            rho_i
-        };
-        let mut acc = Vector::<D>::zeros();
-        let mut drho = 0.0;
-        let mut grad_c = Vector::<D>::zeros();
-        let mut ksum = 0.0;
-        search.for_each_fluid_candidate(&xi, |j| {
-            if j == i {
-                if shifting {
-                    ksum += m * inv_rho_i * kernel.value(0.0);
-                }
-                return;
-            }
-            let xij = xi - pos[j];
-            let r2 = xij.norm_squared();
-            if r2 >= c.support_sq {
-                return;
-            }
-            let r = r2.sqrt();
-            let f = kernel.gradient_factor(r);
-            let grad_w = xij * f;
-            let rho_j = rho[j];
-            let inv_rho_j = inv_rho[j];
-            let inv_rho_ij = inv_rho_i * inv_rho_j;
-            let vij = vi - vel[j];
-            // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
-            let mut scalar = -(p_i + p[j]) * inv_rho_ij;
-            if av_on {
-                scalar -= wall_terms.artificial_viscosity(vij, xij, r2, 0.5 * (rho_i + rho_j));
-            }
-            acc += grad_w * (m * scalar);
-            if viscous {
-                // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W (Eq. 8, 3).
-                acc += (strain_i + strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
-            }
-            if continuity {
-                drho += m * vij.dot(&grad_w);
-                if diffusion != 0 {
-                    let rho_dyn_j = if diffusion == 2 {
-                        rho_j - rho_h[j]
-                    } else {
-                        rho_j
-                    };
-                    drho += diff_coeff * (rho_dyn_j - rho_dyn_i) * f * m * inv_rho_j;
-                }
-            }
-            if shifting {
-                grad_c += grad_w * (m * inv_rho_j);
-                ksum += m * inv_rho_j * kernel.value(r);
-            }
-        });
-        let owner = ForceOwner {
-            x: xi,
-            v: vi,
-            rho: rho_i,
-            inv_rho: inv_rho_i,
-            p: p_i,
-            strain: strain_i,
-        };
-        search.for_each_wall_candidate(&xi, |w| {
-            if let Some(t) = wall_terms.wall_term(&owner, w) {
-                acc += t.acc;
-                drho += t.drho;
-                grad_c += t.grad_c;
-                ksum += t.kernel_sum;
-            }
-        });
-        *acc_out = acc + body_force;
-        *drho_out = drho;
-        (grad_c, ksum)
-    };
-    if shifting {
-        fluid
-            .acceleration
-            .par_iter_mut()
-            .zip(fluid.density_rate.par_iter_mut())
-            .zip(shift_grad.par_iter_mut())
-            .zip(shift_ksum.par_iter_mut())
-            .enumerate()
-            .with_min_len(PAR_CHUNK)
-            .for_each(|(i, (((acc, drho), g), ks))| {
-                let (gc, s) = pair_loop(i, acc, drho);
-                *g = gc;
-                *ks = s;
-            });
-    } else {
-        fluid
-            .acceleration
-            .par_iter_mut()
-            .zip(fluid.density_rate.par_iter_mut())
-            .enumerate()
-            .with_min_len(PAR_CHUNK)
-            .for_each(|(i, (acc, drho))| {
-                pair_loop(i, acc, drho);
-            });
+            acceleration
+                .par_iter_mut()
+                .zip(density_rate.par_iter_mut())
+                .enumerate()
+                .with_min_len(PAR_CHUNK)
+                .for_each(|(i, (acc, drho))| {
+                    pair_loop(i, acc, drho);
+                });
+        }
     }
+    fluid.acceleration = acceleration;
+    fluid.density_rate = density_rate;
+    st.shift_gradient = shift_gradient;
+    st.shift_kernel_sum = shift_kernel_sum;
 }
 
 /// Strain rate V of Eq. 4–5 over the fluid neighbours (as [`strain_pass`]) on cell-sorted
@@ -998,154 +1077,95 @@ fn modern_force_pass_sorted<const D: usize>(
     st: &mut ModernState<D>,
     body_force: Vector<D>,
 ) {
-    let k = st.k;
-    let kernel = c.kernel;
-    let m = c.mass;
-    let viscous = c.viscosity > 0.0;
-    let av_on = c.av_alpha > 0.0 || c.av_beta > 0.0;
-    let continuity = k.continuity;
-    let diffusion = k.diffusion;
-    // ψ_ij·∇_i W_ij = 2 (ρ_j − ρ_i) x_ji·x_ij F/r² = −2 (ρ_j − ρ_i) F, F = (dW/dr)/r.
-    let diff_coeff = -2.0 * k.diffusion_coeff;
-    let shifting = k.shifting.is_some();
-    let w0 = kernel.value(0.0);
+    let shifting = st.k.shifting.is_some();
+    let w0 = c.kernel.value(0.0);
     let n = fluid.position.len();
-    fluid
-        .acceleration
+    // The arrays written leave the fluid and the state while the pair terms read the rest
+    // (no allocation: empty Vecs stand in).
+    let mut acceleration = std::mem::take(&mut fluid.acceleration);
+    let mut density_rate = std::mem::take(&mut fluid.density_rate);
+    let mut shift_gradient = std::mem::take(&mut st.shift_gradient);
+    let mut shift_kernel_sum = std::mem::take(&mut st.shift_kernel_sum);
+    acceleration
         .par_iter_mut()
-        .zip(fluid.density_rate.par_iter_mut())
+        .zip(density_rate.par_iter_mut())
         .with_min_len(PAR_CHUNK)
         .for_each(|(a, d)| {
             *a = body_force;
             *d = 0.0;
         });
     if shifting {
-        st.shift_gradient
+        shift_gradient
             .par_iter_mut()
-            .zip(st.shift_kernel_sum.par_iter_mut())
+            .zip(shift_kernel_sum.par_iter_mut())
             .with_min_len(PAR_CHUNK)
             .for_each(|(g, s)| {
                 *g = Vector::<D>::zeros();
                 *s = 0.0;
             });
     }
-    let pos = &fluid.position;
-    let vel = &fluid.velocity;
-    let rho = &fluid.density;
-    let inv_rho = &fluid.inverse_density;
-    let p = &fluid.pressure;
-    let strain = &fluid.strain_rate;
-    let rho_h = &st.hydro_density;
-    let wall_vel = &st.wall_velocity;
-    let acc_shared = SharedSlice::new(&mut fluid.acceleration);
-    let drho_shared = SharedSlice::new(&mut fluid.density_rate);
-    let grad_c_shared = SharedSlice::new(&mut st.shift_gradient);
-    let ksum_shared = SharedSlice::new(&mut st.shift_kernel_sum);
-    debug_assert!(!shifting || st.shift_gradient.len() == n);
-    let wall_terms = WallPairTerms::new(c, &k, walls, wall_vel);
-    colour_sweep(blocks, |_, begin, end| {
-        for i in begin..end {
-            let xi = pos[i];
-            let vi = vel[i];
-            let rho_i = rho[i];
-            let inv_rho_i = inv_rho[i];
-            let volume_i = m * inv_rho_i;
-            let p_i = p[i];
-            let strain_i = strain[i];
-            let rho_dyn_i = if diffusion == 2 {
-                rho_i - rho_h[i]
-            } else {
-                rho_i
-            };
-            let mut acc = Vector::<D>::zeros();
-            let mut drho = 0.0;
-            let mut grad_c = Vector::<D>::zeros();
-            let mut ksum = if shifting { volume_i * w0 } else { 0.0 };
-            grid.for_each_forward_range(i, &xi, |j0, j1| {
-                for j in j0..j1 {
-                    let xij = xi - pos[j];
-                    let r2 = xij.norm_squared();
-                    if r2 >= c.support_sq {
-                        continue;
-                    }
-                    let r = r2.sqrt();
-                    let f = kernel.gradient_factor(r);
-                    let grad_w = xij * f;
-                    let rho_j = rho[j];
-                    let inv_rho_j = inv_rho[j];
-                    let volume_j = m * inv_rho_j;
-                    let inv_rho_ij = inv_rho_i * inv_rho_j;
-                    let vij = vi - vel[j];
-                    // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
-                    let mut scalar = -(p_i + p[j]) * inv_rho_ij;
-                    if av_on {
-                        scalar -=
-                            wall_terms.artificial_viscosity(vij, xij, r2, 0.5 * (rho_i + rho_j));
-                    }
-                    let mut term = grad_w * (m * scalar);
-                    if viscous {
-                        // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W (Eq. 8, 3).
-                        term += (strain_i + strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
-                    }
-                    acc += term;
-                    // SAFETY (all four): j is in this block or the next (colour_blocks).
-                    unsafe {
-                        *acc_shared.at(j) -= term;
-                    }
-                    if continuity {
-                        let d = m * vij.dot(&grad_w);
-                        let (mut d_i, mut d_j) = (d, d);
-                        if diffusion != 0 {
-                            let rho_dyn_j = if diffusion == 2 {
-                                rho_j - rho_h[j]
-                            } else {
-                                rho_j
-                            };
-                            let psi = diff_coeff * (rho_dyn_j - rho_dyn_i) * f;
-                            d_i += psi * volume_j;
-                            d_j -= psi * volume_i;
+    debug_assert!(!shifting || shift_gradient.len() == n);
+    {
+        let acc_shared = SharedSlice::new(&mut acceleration);
+        let drho_shared = SharedSlice::new(&mut density_rate);
+        let grad_c_shared = SharedSlice::new(&mut shift_gradient);
+        let ksum_shared = SharedSlice::new(&mut shift_kernel_sum);
+        let terms = ModernPairTerms::new(c, fluid, walls, st);
+        colour_sweep(blocks, |_, begin, end| {
+            let t = &terms;
+            for i in begin..end {
+                let o = t.owner(i);
+                let mut acc = Vector::<D>::zeros();
+                let mut drho = 0.0;
+                let mut grad_c = Vector::<D>::zeros();
+                let mut ksum = if shifting { o.volume * w0 } else { 0.0 };
+                grid.for_each_forward_range(i, &o.f.x, |j0, j1| {
+                    for j in j0..j1 {
+                        let xij = o.f.x - t.pos[j];
+                        let r2 = xij.norm_squared();
+                        if r2 >= c.support_sq {
+                            continue;
                         }
-                        drho += d_i;
+                        let pair = t.fluid_pair(&o, j, xij, r2);
+                        acc += pair.acc;
+                        drho += pair.drho_i;
+                        // SAFETY (all four): j is in this block or the next (colour_blocks).
                         unsafe {
-                            *drho_shared.at(j) += d_j;
+                            *acc_shared.at(j) -= pair.acc;
+                            *drho_shared.at(j) += pair.drho_j;
+                        }
+                        if shifting {
+                            grad_c += pair.grad_w * pair.volume_j;
+                            ksum += pair.volume_j * pair.w;
+                            unsafe {
+                                *grad_c_shared.at(j) -= pair.grad_w * o.volume;
+                                *ksum_shared.at(j) += o.volume * pair.w;
+                            }
                         }
                     }
+                });
+                grid.for_each_wall_candidate(&o.f.x, |w| {
+                    if let Some(wall) = t.wall_term(&o.f, w) {
+                        acc += wall.acc;
+                        drho += wall.drho;
+                        grad_c += wall.grad_c;
+                        ksum += wall.kernel_sum;
+                    }
+                });
+                // SAFETY: slot i belongs to this block.
+                unsafe {
+                    *acc_shared.at(i) += acc;
+                    *drho_shared.at(i) += drho;
                     if shifting {
-                        let w = kernel.value(r);
-                        grad_c += grad_w * volume_j;
-                        ksum += volume_j * w;
-                        unsafe {
-                            *grad_c_shared.at(j) -= grad_w * volume_i;
-                            *ksum_shared.at(j) += volume_i * w;
-                        }
+                        *grad_c_shared.at(i) += grad_c;
+                        *ksum_shared.at(i) += ksum;
                     }
-                }
-            });
-            let owner = ForceOwner {
-                x: xi,
-                v: vi,
-                rho: rho_i,
-                inv_rho: inv_rho_i,
-                p: p_i,
-                strain: strain_i,
-            };
-            grid.for_each_wall_candidate(&xi, |w| {
-                if let Some(t) = wall_terms.wall_term(&owner, w) {
-                    acc += t.acc;
-                    drho += t.drho;
-                    grad_c += t.grad_c;
-                    ksum += t.kernel_sum;
-                }
-            });
-            // SAFETY: slot i belongs to this block.
-            unsafe {
-                *acc_shared.at(i) += acc;
-                *drho_shared.at(i) += drho;
-                if shifting {
-                    *grad_c_shared.at(i) += grad_c;
-                    *ksum_shared.at(i) += ksum;
                 }
             }
-        }
-    });
+        });
+    }
+    fluid.acceleration = acceleration;
+    fluid.density_rate = density_rate;
+    st.shift_gradient = shift_gradient;
+    st.shift_kernel_sum = shift_kernel_sum;
 }
