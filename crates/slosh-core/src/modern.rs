@@ -419,24 +419,14 @@ impl<const D: usize> Simulation<D> {
         let k = st.k;
         let c = self.constants;
         if !k.continuity {
-            match &self.search {
-                Search::Grid(s) => density_pass(
-                    s,
-                    &c,
-                    &mut self.fluid,
-                    &mut self.walls,
-                    &mut self.next_density,
-                    &mut self.next_wall_density,
-                ),
-                Search::KdTree(s) => density_pass(
-                    s,
-                    &c,
-                    &mut self.fluid,
-                    &mut self.walls,
-                    &mut self.next_density,
-                    &mut self.next_wall_density,
-                ),
-            }
+            with_search!(&self.search, s => density_pass(
+                s,
+                &c,
+                &mut self.fluid,
+                &mut self.walls,
+                &mut self.next_density,
+                &mut self.next_wall_density,
+            ));
         } else if c.viscosity > 0.0 {
             match &self.search {
                 Search::Grid(s) => strain_pass_sorted(s, &self.blocks, &c, &mut self.fluid),
@@ -454,28 +444,16 @@ impl<const D: usize> Simulation<D> {
                 });
         }
         if k.continuity || k.adami {
-            match &self.search {
-                Search::Grid(s) => wall_pass(
-                    s,
-                    &c,
-                    &k,
-                    &mut self.fluid,
-                    &mut self.walls,
-                    &mut self.next_wall_density,
-                    st,
-                    body_force,
-                ),
-                Search::KdTree(s) => wall_pass(
-                    s,
-                    &c,
-                    &k,
-                    &mut self.fluid,
-                    &mut self.walls,
-                    &mut self.next_wall_density,
-                    st,
-                    body_force,
-                ),
-            }
+            with_search!(&self.search, s => wall_pass(
+                s,
+                &c,
+                &k,
+                &mut self.fluid,
+                &mut self.walls,
+                &mut self.next_wall_density,
+                st,
+                body_force,
+            ));
         }
     }
 

@@ -30,6 +30,17 @@ use crate::setup::{ParticleSetup, TankInterior};
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 
+/// Evaluates `$body` with `$s` bound to the search of whichever backend `$search` holds (the
+/// body is compiled once per backend).
+macro_rules! with_search {
+    ($search:expr, $s:ident => $body:expr) => {
+        match $search {
+            Search::Grid($s) => $body,
+            Search::KdTree($s) => $body,
+        }
+    };
+}
+
 #[path = "modern.rs"]
 mod modern;
 
@@ -593,32 +604,18 @@ impl<const D: usize> Simulation<D> {
     fn record_loads_at(&mut self, body_force: Vector<D>, time: f64) {
         let (kernel, mass, dx) = (self.constants.kernel, self.constants.mass, self.spacing);
         let step = self.step;
-        match &self.search {
-            Search::Grid(s) => self.loads.record_step(
-                s,
-                &self.fluid,
-                &self.walls,
-                &kernel,
-                mass,
-                &self.params,
-                body_force,
-                step,
-                time,
-                dx,
-            ),
-            Search::KdTree(s) => self.loads.record_step(
-                s,
-                &self.fluid,
-                &self.walls,
-                &kernel,
-                mass,
-                &self.params,
-                body_force,
-                step,
-                time,
-                dx,
-            ),
-        }
+        with_search!(&self.search, s => self.loads.record_step(
+            s,
+            &self.fluid,
+            &self.walls,
+            &kernel,
+            mass,
+            &self.params,
+            body_force,
+            step,
+            time,
+            dx,
+        ))
     }
 
     /// Mutable access to the load evaluator (to flush the time window at the end of a run).
@@ -627,10 +624,7 @@ impl<const D: usize> Simulation<D> {
     }
 
     fn rebuild_search(&mut self) {
-        match &mut self.search {
-            Search::Grid(s) => s.rebuild_fluid(&self.fluid.position),
-            Search::KdTree(s) => s.rebuild_fluid(&self.fluid.position),
-        }
+        with_search!(&mut self.search, s => s.rebuild_fluid(&self.fluid.position))
     }
 
     /// Re-sorts the fluid arrays along the cell order, for memory locality.
@@ -735,22 +729,14 @@ impl<const D: usize> Simulation<D> {
                 &mut self.next_wall_density,
                 &mut self.wall_scatter,
             ),
-            Search::Grid(s) => density_pass(
+            search => with_search!(search, s => density_pass(
                 s,
                 &c,
                 &mut self.fluid,
                 &mut self.walls,
                 &mut self.next_density,
                 &mut self.next_wall_density,
-            ),
-            Search::KdTree(s) => density_pass(
-                s,
-                &c,
-                &mut self.fluid,
-                &mut self.walls,
-                &mut self.next_density,
-                &mut self.next_wall_density,
-            ),
+            )),
         }
     }
 
@@ -765,8 +751,9 @@ impl<const D: usize> Simulation<D> {
                 &self.walls,
                 body_force,
             ),
-            Search::Grid(s) => force_pass(s, &c, &mut self.fluid, &self.walls, body_force),
-            Search::KdTree(s) => force_pass(s, &c, &mut self.fluid, &self.walls, body_force),
+            search => {
+                with_search!(search, s => force_pass(s, &c, &mut self.fluid, &self.walls, body_force))
+            }
         }
     }
 
@@ -976,10 +963,7 @@ impl<const D: usize> Simulation<D> {
                 visit(j)
             }
         };
-        match &self.search {
-            Search::Grid(s) => s.for_each_fluid_candidate(x, &mut f),
-            Search::KdTree(s) => s.for_each_fluid_candidate(x, &mut f),
-        }
+        with_search!(&self.search, s => s.for_each_fluid_candidate(x, &mut f))
     }
 
     /// Simulation state for a restart-free check: the largest |v| (m/s).
