@@ -64,8 +64,9 @@ const IMPACT_TOL: f64 = 0.10;
 /// What is known of the modern scheme's dam-break gaps (issue 7 stays open on them).
 const MODERN_DAMBREAK_GAP: &str = "issue 7: the modern front runs 9–12 % ahead of all four \
     data sets (as the paper scheme's; a constant delay of ΔT ≈ 0.2 aligns it within 1–2 % with \
-    Martin & Moyce and DualSPHysics' Koshizuka & Oka: the gate is not modelled; no-slip walls \
-    slow it to 5–9 % ahead, through the artificial viscosity at the floor); after the impact the wall pressure's vertical \
+    Martin & Moyce and DualSPHysics' Koshizuka & Oka: the gate is not modelled; at dx/2 the \
+    lead grows to 11–15 %; no-slip walls slow it to 5–9 % ahead, through the artificial \
+    viscosity at the floor); after the impact the wall pressure's vertical \
     gradient is too steep (T = 3–6: P1 +51 %, P3 +27 %, P4 −24 %, three-sensor mean +21 %; the \
     same at dx = 0.005 m: +20 %), and the corner sensor's first peak reads 2× high";
 /// The modern scheme's first-peak tolerance (issue 7).
