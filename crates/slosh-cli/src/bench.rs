@@ -6,8 +6,8 @@
 //! steps are cut into [`BLOCKS`] blocks and the pools take turns block by block, so that a
 //! slow spell of the host weighs on every thread count alike. Reported per run:
 //! - particle-steps per second, counting fluid + wall particles (as engineering SPH codes
-//!   quote), fluid-only, and over the fastest of [`BLOCKS`] equal blocks of the timed steps
-//!   (the least disturbed by other processes);
+//!   quote), fluid-only, and over the median and the fastest of [`BLOCKS`] equal blocks of
+//!   the timed steps (the least disturbed by other processes);
 //! - the share of the wall time of the timed steps spent in each phase of
 //!   [`Simulation::phase_times`] (`other` = the rest: the loop, the ground acceleration);
 //! - memory: the per-case peak RSS (VmHWM, reset through `/proc/self/clear_refs` before each
@@ -152,6 +152,9 @@ pub struct BenchRow {
     pub fluid_steps_per_s: f64,
     /// (fluid + wall) particle-steps per second over the fastest block of steps.
     pub best_block_particle_steps_per_s: f64,
+    /// (fluid + wall) particle-steps per second of the median block (per-step time): on a
+    /// shared host, the figure least moved by slow spells, for comparisons across commits.
+    pub median_block_particle_steps_per_s: f64,
     /// Shares of wall_s: neighbour search, density, forces, integration, loads, other.
     pub shares: [f64; 6],
     /// Solver bytes per (fluid + wall) particle: reachable arrays + estimated private buffers.
@@ -173,7 +176,7 @@ pub struct BenchRow {
 }
 
 /// Columns of `bench.csv`, in order.
-pub const CSV_COLUMNS: [&str; 27] = [
+pub const CSV_COLUMNS: [&str; 28] = [
     "case",
     "dim",
     "particles",
@@ -201,13 +204,14 @@ pub const CSV_COLUMNS: [&str; 27] = [
     "load_avg_1m",
     "version",
     "warmup_steps",
+    "median_block_particle_steps_per_s",
 ];
 
 impl BenchRow {
     fn csv_line(&self) -> String {
         let s = &self.shares;
         format!(
-            "{},{},{},{},{:.0},{:.1},{},{},{},{},{:.4},{:.0},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.1},{:.1},{:.1},{:.3},{:.0},{:.2},{},{}",
+            "{},{},{},{},{:.0},{:.1},{},{},{},{},{:.4},{:.0},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.1},{:.1},{:.1},{:.3},{:.0},{:.2},{},{},{:.0}",
             self.case,
             self.dim,
             self.particles,
@@ -235,6 +239,7 @@ impl BenchRow {
             self.load_avg,
             self.version,
             WARMUP_STEPS,
+            self.median_block_particle_steps_per_s,
         )
     }
 }
@@ -423,6 +428,7 @@ fn run_case<const D: usize>(
                 timing.wall_s += wall;
                 timing.cpu_s += process_cpu_s() - cpu0;
                 timing.best_step_s = timing.best_step_s.min(wall / n as f64);
+                timing.block_step_s[b] = wall / n as f64;
                 timing.phases = phase_sum(timing.phases, phase_delta(sim.phase_times(), p0));
                 Ok(())
             })?;
@@ -436,7 +442,15 @@ fn run_case<const D: usize>(
             cpu_s,
             best_step_s: best_block,
             phases,
+            block_step_s,
         } = *timing;
+        let mut per_step = block_step_s[..blocks].to_vec();
+        per_step.sort_by(f64::total_cmp);
+        let median_step_s = if blocks % 2 == 1 {
+            per_step[blocks / 2]
+        } else {
+            0.5 * (per_step[blocks / 2 - 1] + per_step[blocks / 2])
+        };
         let s = |x: f64| x / wall_s;
         let shares = [
             s(phases.neighbour_search),
@@ -459,6 +473,7 @@ fn run_case<const D: usize>(
             particle_steps_per_s: (particles * steps) as f64 / wall_s,
             fluid_steps_per_s: (fluid * steps) as f64 / wall_s,
             best_block_particle_steps_per_s: particles as f64 / best_block,
+            median_block_particle_steps_per_s: particles as f64 / median_step_s,
             shares,
             bytes_per_particle: bytes.total() as f64 / particles as f64,
             bytes_per_particle_arrays: bytes.reachable as f64 / particles as f64,
@@ -489,6 +504,8 @@ struct PoolTiming {
     /// Wall time per step of the fastest block.
     best_step_s: f64,
     phases: PhaseTimes,
+    /// Wall time per step of each block (the first `blocks` entries).
+    block_step_s: [f64; BLOCKS],
 }
 
 impl Default for PoolTiming {
@@ -498,6 +515,7 @@ impl Default for PoolTiming {
             cpu_s: 0.0,
             best_step_s: f64::INFINITY,
             phases: PhaseTimes::default(),
+            block_step_s: [0.0; BLOCKS],
         }
     }
 }
@@ -613,8 +631,8 @@ impl SolverBytes {
 
 fn print_header() {
     println!(
-        "{:<8} {:<6} {:>3} {:>8} {:>8} {:>5} {:>7} {:>8} {:>8} {:>8} | {:>4} {:>4} {:>4} {:>4} {:>4} {:>4} | {:>6} {:>7} {:>4} {:>5}",
-        "case", "search", "thr", "particles", "fluid", "steps", "wall s", "Mpst/s", "fluid", "best",
+        "{:<8} {:<6} {:>3} {:>8} {:>8} {:>5} {:>7} {:>8} {:>8} {:>8} {:>8} | {:>4} {:>4} {:>4} {:>4} {:>4} {:>4} | {:>6} {:>7} {:>4} {:>5}",
+        "case", "search", "thr", "particles", "fluid", "steps", "wall s", "Mpst/s", "fluid", "median", "best",
         "nbr", "dens", "forc", "intg", "load", "oth", "B/part", "peak MB", "cpu", "load"
     );
 }
@@ -622,7 +640,7 @@ fn print_header() {
 fn print_row(r: &BenchRow) {
     let pct = |x: f64| format!("{:.0}%", 100.0 * x);
     println!(
-        "{:<8} {:<6} {:>3} {:>8} {:>8} {:>5} {:>7.2} {:>8.3} {:>8.3} {:>8.3} | {:>4} {:>4} {:>4} {:>4} {:>4} {:>4} | {:>6.0} {:>7.0} {:>4} {:>5.2}",
+        "{:<8} {:<6} {:>3} {:>8} {:>8} {:>5} {:>7.2} {:>8.3} {:>8.3} {:>8.3} {:>8.3} | {:>4} {:>4} {:>4} {:>4} {:>4} {:>4} | {:>6.0} {:>7.0} {:>4} {:>5.2}",
         r.case,
         r.backend,
         r.threads,
@@ -632,6 +650,7 @@ fn print_row(r: &BenchRow) {
         r.wall_s,
         r.particle_steps_per_s / 1e6,
         r.fluid_steps_per_s / 1e6,
+        r.median_block_particle_steps_per_s / 1e6,
         r.best_block_particle_steps_per_s / 1e6,
         pct(r.shares[0]),
         pct(r.shares[1]),
@@ -662,7 +681,7 @@ pub fn print_checks(rows: &[BenchRow], quick: bool) {
         rows.iter()
             .find(|r| r.case == case && r.backend == default && r.threads == threads)
     };
-    println!("Columns: Mpst/s = 10⁶ (fluid + wall) particle-steps/s; fluid = fluid only; best = fastest of {BLOCKS} blocks; shares of wall time; B/part = solver bytes per particle (arrays + estimated private buffers); peak MB = VmHWM during the case (incl. process baseline); cpu = CPU time / (wall × threads); load = 1-min load average.");
+    println!("Columns: Mpst/s = 10⁶ (fluid + wall) particle-steps/s; fluid = fluid only; median / best = the median / fastest of {BLOCKS} blocks; shares of wall time; B/part = solver bytes per particle (arrays + estimated private buffers); peak MB = VmHWM during the case (incl. process baseline); cpu = CPU time / (wall × threads); load = 1-min load average.");
     println!("Issue 8 checks ({default} backend, {max_threads} threads; measured, not a pass condition of this command):");
     let line = |label: String, value: String, ok: Option<bool>| {
         let v = ok.map_or("n/a ", verdict);
@@ -713,6 +732,28 @@ pub fn print_checks(rows: &[BenchRow], quick: bool) {
     if let (Some(a), Some(b)) = (find("2d-20k", max_threads), find("3d-500k", max_threads)) {
         let ratio = a.particle_steps_per_s / b.particle_steps_per_s;
         println!("  info  cost per particle-step 3d-500k / 2d-20k (across dimensions): {ratio:.2}");
+    }
+    // The same targets on the median block: what a run reads when a slow spell of the host
+    // falls on a few blocks only.
+    let median: Vec<String> = ["2d-20k", "2d-80k", "3d-100k", "3d-500k"]
+        .iter()
+        .filter_map(|case| {
+            find(case, max_threads)
+                .map(|r| format!("{case} {:.2e}", r.median_block_particle_steps_per_s))
+        })
+        .collect();
+    if !median.is_empty() {
+        let speedup = match (find("2d-80k", 1), find("2d-80k", 2)) {
+            (Some(a), Some(b)) => format!(
+                "; speed-up at 80k {:.2}×",
+                b.median_block_particle_steps_per_s / a.median_block_particle_steps_per_s
+            ),
+            _ => String::new(),
+        };
+        println!(
+            "  info  median block (particle-steps/s): {}{speedup}",
+            median.join(", ")
+        );
     }
     let label = "2-thread speed-up on 2d-80k ≥ 1.7×".to_string();
     match (find("2d-80k", 1), find("2d-80k", 2)) {
@@ -833,6 +874,10 @@ mod tests {
         for r in &rows {
             assert_eq!(r.steps, 50);
             assert!(r.wall_s > 0.0 && r.best_block_particle_steps_per_s >= r.particle_steps_per_s);
+            assert!(
+                r.median_block_particle_steps_per_s > 0.0
+                    && r.median_block_particle_steps_per_s <= r.best_block_particle_steps_per_s
+            );
             assert!(r.shares.iter().sum::<f64>() <= 1.0 + 1e-9);
         }
         let text = std::fs::read_to_string(out.join("bench.csv")).unwrap();
