@@ -136,6 +136,8 @@ pub fn select_cases(quick: bool, names: Option<&[String]>) -> Result<Vec<BenchCa
 pub struct BenchRow {
     pub case: String,
     pub dim: usize,
+    /// "paper" or "modern".
+    pub scheme: &'static str,
     pub backend: &'static str,
     /// Threads of the rayon pool the steps ran in.
     pub threads: usize,
@@ -176,7 +178,7 @@ pub struct BenchRow {
 }
 
 /// Columns of `bench.csv`, in order.
-pub const CSV_COLUMNS: [&str; 28] = [
+pub const CSV_COLUMNS: [&str; 29] = [
     "case",
     "dim",
     "particles",
@@ -205,13 +207,14 @@ pub const CSV_COLUMNS: [&str; 28] = [
     "version",
     "warmup_steps",
     "median_block_particle_steps_per_s",
+    "scheme",
 ];
 
 impl BenchRow {
     fn csv_line(&self) -> String {
         let s = &self.shares;
         format!(
-            "{},{},{},{},{:.0},{:.1},{},{},{},{},{:.4},{:.0},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.1},{:.1},{:.1},{:.3},{:.0},{:.2},{},{},{:.0}",
+            "{},{},{},{},{:.0},{:.1},{},{},{},{},{:.4},{:.0},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.1},{:.1},{:.1},{:.3},{:.0},{:.2},{},{},{:.0},{}",
             self.case,
             self.dim,
             self.particles,
@@ -240,6 +243,7 @@ impl BenchRow {
             self.version,
             WARMUP_STEPS,
             self.median_block_particle_steps_per_s,
+            self.scheme,
         )
     }
 }
@@ -249,12 +253,16 @@ impl BenchRow {
 pub struct BenchConfig {
     /// Thread counts, each run in its own rayon pool (first one also builds the case).
     pub threads: Vec<usize>,
+    /// The scheme timed: the paper's (default) or the modern preset (symplectic, continuity
+    /// density with δ-SPH, Adami walls, Wendland C2: the physics of the reference code).
+    pub modern: bool,
     /// Print the table and the checks.
     pub verbose: bool,
 }
 
-/// `slosh bench [--quick] [--out DIR] [--threads 1,2] [--case NAME,..]`: runs the fixed cases
-/// (those named by `--case` only), prints a table and the issue-8 checks, writes
+/// `slosh bench [--quick] [--out DIR] [--threads 1,2] [--case NAME,..] [--scheme S]`: runs the
+/// fixed cases (those named by `--case` only) with the paper or the modern scheme, prints a
+/// table and the issue-8 checks, writes
 /// `DIR/bench.csv` (default `out/bench`). Always succeeds when the runs complete: the checks
 /// report, they do not fail the command.
 pub fn cli_bench(
@@ -262,7 +270,13 @@ pub fn cli_bench(
     out: Option<PathBuf>,
     threads_list: Option<Vec<usize>>,
     only_cases: Option<Vec<String>>,
+    scheme: &str,
 ) -> Result<()> {
+    let modern = match scheme {
+        "paper" => false,
+        "modern" => true,
+        other => bail!("unknown scheme '{other}' for bench: use paper or modern"),
+    };
     let machine = std::thread::available_parallelism()
         .map(|n| n.get())
         .unwrap_or(1);
@@ -280,10 +294,11 @@ pub fn cli_bench(
     let out = out.unwrap_or_else(|| PathBuf::from("out").join("bench"));
     let config = BenchConfig {
         threads,
+        modern,
         verbose: true,
     };
     println!(
-        "slosh bench{}: {} cases, threads {:?} (machine: {machine}), load average {}",
+        "slosh bench{}: {} cases, {scheme} scheme, threads {:?} (machine: {machine}), load average {}",
         if quick { " --quick" } else { "" },
         cases.len(),
         config.threads,
@@ -327,12 +342,12 @@ pub fn run_bench(cases: &[BenchCase], config: &BenchConfig, out: &Path) -> Resul
         for backend in backends {
             let new_rows = match case.tank {
                 BenchTank::PaperRect2 => {
-                    run_case::<2>(case, backend, &pools, &version, config.verbose, || {
+                    run_case::<2>(case, backend, config, &pools, &version, || {
                         Ok(RectTank2::new(1.0, 1.0, 0.5).build(case.dx)?)
                     })
                 }
                 BenchTank::Cylinder3 => {
-                    run_case::<3>(case, backend, &pools, &version, config.verbose, || {
+                    run_case::<3>(case, backend, config, &pools, &version, || {
                         Ok(CylinderTank::new(0.5, 0.6, 0.5, Roof::Flat).build(case.dx)?)
                     })
                 }
@@ -378,16 +393,21 @@ fn advance<const D: usize>(sim: &mut Simulation<D>, steps: usize) -> Result<()> 
 fn run_case<const D: usize>(
     case: &BenchCase,
     backend: NeighbourBackend,
+    config: &BenchConfig,
     pools: &[ThreadPool],
     version: &str,
-    verbose: bool,
     build: impl Fn() -> Result<ParticleSetup<D>> + Send + Sync,
 ) -> Result<Vec<BenchRow>> {
     reset_peak_rss();
     let rss_before = proc_status_kib("VmRSS:").unwrap_or(0) as f64 * 1024.0;
+    let base = if config.modern {
+        SphParams::modern()
+    } else {
+        SphParams::default()
+    };
     let params = SphParams {
         neighbour_backend: backend,
-        ..SphParams::default()
+        ..base
     };
     let mut sim = pools[0].install(|| -> Result<Simulation<D>> {
         let mut sim = Simulation::new(build()?, params)?;
@@ -463,6 +483,7 @@ fn run_case<const D: usize>(
         let row = BenchRow {
             case: case.name.to_string(),
             dim: D,
+            scheme: if config.modern { "modern" } else { "paper" },
             backend: backend_name(backend),
             threads,
             dx: case.dx,
@@ -489,7 +510,7 @@ fn run_case<const D: usize>(
     let peak = proc_status_kib("VmHWM:").unwrap_or(0) as f64 / 1024.0;
     for r in &mut rows {
         r.peak_rss_mb = peak;
-        if verbose {
+        if config.verbose {
             print_row(r);
         }
     }
@@ -865,6 +886,7 @@ mod tests {
         // Two pools taking turns block by block: one row each, all timed steps counted.
         let config = BenchConfig {
             threads: vec![2, 1],
+            modern: false,
             verbose: false,
         };
         let rows = run_bench(&[case], &config, &out).unwrap();
@@ -898,6 +920,24 @@ mod tests {
         );
         assert!(col("particle_steps_per_s").parse::<f64>().unwrap() > 0.0);
         assert!(col("bytes_per_particle").parse::<f64>().unwrap() > 100.0);
+        assert_eq!(col("scheme"), "paper");
+        // The modern preset times too.
+        let modern = BenchConfig {
+            threads: vec![1],
+            modern: true,
+            verbose: false,
+        };
+        let case = BenchCase {
+            name: "micro",
+            tank: BenchTank::PaperRect2,
+            dx: 0.04,
+            steps: 10,
+            kdtree: false,
+        };
+        let rows = run_bench(&[case], &modern, &out).unwrap();
+        let _ = std::fs::remove_dir_all(&out);
+        assert_eq!(rows[0].scheme, "modern");
+        assert!(rows[0].particle_steps_per_s > 0.0);
     }
 
     #[test]

@@ -48,6 +48,9 @@ struct BenchArgs {
     /// Only these cases, comma-separated (e.g. `--case 2d-80k`); names as in bench.csv.
     #[arg(long, value_delimiter = ',')]
     case: Option<Vec<String>>,
+    /// Scheme to time: paper (default) or modern (symplectic, δ-SPH, Adami walls).
+    #[arg(long, default_value = "paper")]
+    scheme: String,
 }
 
 #[derive(Args)]
@@ -152,7 +155,7 @@ fn main() -> ExitCode {
         Command::Sweep(args) => cmd_sweep(args),
         Command::Theory(args) => cmd_theory(args),
         Command::Bench(args) => {
-            slosh_cli::bench::cli_bench(args.quick, args.out, args.threads, args.case)
+            slosh_cli::bench::cli_bench(args.quick, args.out, args.threads, args.case, &args.scheme)
         }
         Command::Validate(args) => {
             match slosh_cli::validate::cli_validate(args.quick, args.out, args.only) {
