@@ -644,11 +644,8 @@ fn wall_pass<const D: usize, S: NeighbourSearch<D>>(
 /// What the pair terms of the modern force pass read: one copy for both neighbour backends,
 /// its methods always inlined into their sweeps.
 struct ModernPairTerms<'a, const D: usize> {
-    c: &'a PassConstants,
-    /// 0.01 h² of Eq. 11.
-    eps_h2: f64,
-    viscous: bool,
-    av_on: bool,
+    /// The paper sweep's constants and fluid and wall arrays (pressure and viscous terms).
+    base: ForceSweep<'a, D>,
     /// Walls in the artificial viscosity and the viscous term: dynamic walls as the paper
     /// (wall at rest), Adami free-slip none, Adami no-slip the mirrored velocity.
     wall_av: bool,
@@ -661,18 +658,9 @@ struct ModernPairTerms<'a, const D: usize> {
     /// factor −2 δ h c0 of (ρ_j − ρ_i) F.
     diff_coeff: f64,
     shifting: bool,
-    pos: &'a [Vector<D>],
-    vel: &'a [Vector<D>],
-    rho: &'a [f64],
-    inv_rho: &'a [f64],
-    p: &'a [f64],
-    strain: &'a [Tensor<D>],
     /// Hydrostatic density of Fourtakas' diffusion (kg/m³).
     rho_h: &'a [f64],
-    wall_pos: &'a [Vector<D>],
-    wall_rho: &'a [f64],
-    wall_inv_rho: &'a [f64],
-    wall_p: &'a [f64],
+    /// Wall velocity seen by the fluid with no-slip Adami walls (m/s).
     wall_vel: &'a [Vector<D>],
 }
 
@@ -711,39 +699,24 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
     /// The terms over `fluid` (its acceleration and density rate are not read), `walls` and
     /// the modern state's hydrostatic density and wall velocity.
     fn new(
-        c: &'a PassConstants,
+        c: &PassConstants,
         fluid: &'a Fluid<D>,
         walls: &'a Walls<D>,
         st: &'a ModernState<D>,
     ) -> Self {
         let k = &st.k;
-        let h = c.kernel.h;
-        let viscous = c.viscosity > 0.0;
-        let av_on = c.av_alpha > 0.0 || c.av_beta > 0.0;
+        let base = ForceSweep::new(c, fluid, walls);
         ModernPairTerms {
-            c,
-            eps_h2: 0.01 * h * h, // φ of Eq. 11
-            viscous,
-            av_on,
-            wall_av: av_on && (!k.adami || k.no_slip),
-            wall_viscous: viscous && (!k.adami || k.no_slip),
+            wall_av: base.av_on && (!k.adami || k.no_slip),
+            wall_viscous: base.viscous && (!k.adami || k.no_slip),
             mirrored: k.adami && k.no_slip,
             continuity: k.continuity,
             diffusion: k.diffusion,
             diff_coeff: -2.0 * k.diffusion_coeff,
             shifting: k.shifting.is_some(),
-            pos: &fluid.position,
-            vel: &fluid.velocity,
-            rho: &fluid.density,
-            inv_rho: &fluid.inverse_density,
-            p: &fluid.pressure,
-            strain: &fluid.strain_rate,
             rho_h: &st.hydro_density,
-            wall_pos: &walls.position,
-            wall_rho: &walls.density,
-            wall_inv_rho: &walls.inverse_density,
-            wall_p: &walls.pressure,
             wall_vel: &st.wall_velocity,
+            base,
         }
     }
 
@@ -751,24 +724,17 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
     #[inline(always)]
     fn rho_dyn(&self, i: usize) -> f64 {
         if self.diffusion == 2 {
-            self.rho[i] - self.rho_h[i]
+            self.base.rho[i] - self.rho_h[i]
         } else {
-            self.rho[i]
+            self.base.rho[i]
         }
     }
 
     #[inline(always)]
     fn owner(&self, i: usize) -> ModernOwner<D> {
-        let f = ForceOwner {
-            x: self.pos[i],
-            v: self.vel[i],
-            rho: self.rho[i],
-            inv_rho: self.inv_rho[i],
-            p: self.p[i],
-            strain: self.strain[i],
-        };
+        let f = self.base.owner(i);
         ModernOwner {
-            volume: self.c.mass * f.inv_rho,
+            volume: self.base.c.mass * f.inv_rho,
             rho_dyn: self.rho_dyn(i),
             f,
         }
@@ -778,9 +744,9 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
     /// pair has φ = 0).
     #[inline(always)]
     fn artificial_viscosity(&self, vij: Vector<D>, xij: Vector<D>, r2: f64, rho_mean: f64) -> f64 {
-        let c = self.c;
+        let c = &self.base.c;
         let v_dot_x = vij.dot(&xij).min(0.0);
-        let phi = c.kernel.h * v_dot_x / (r2 + self.eps_h2); // Eq. 11
+        let phi = c.kernel.h * v_dot_x / (r2 + self.base.eps_h2); // Eq. 11
         (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) / rho_mean
     }
 
@@ -796,25 +762,25 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
         xij: Vector<D>,
         r2: f64,
     ) -> FluidPairTerm<D> {
-        let c = self.c;
+        let c = &self.base.c;
         let m = c.mass;
         let r = r2.sqrt();
         let f = c.kernel.gradient_factor(r);
         let grad_w = xij * f;
-        let rho_j = self.rho[j];
-        let inv_rho_j = self.inv_rho[j];
+        let rho_j = self.base.rho[j];
+        let inv_rho_j = self.base.inv_rho[j];
         let volume_j = m * inv_rho_j;
         let inv_rho_ij = o.f.inv_rho * inv_rho_j;
-        let vij = o.f.v - self.vel[j];
+        let vij = o.f.v - self.base.vel[j];
         // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
-        let mut scalar = -(o.f.p + self.p[j]) * inv_rho_ij;
-        if self.av_on {
+        let mut scalar = -(o.f.p + self.base.p[j]) * inv_rho_ij;
+        if self.base.av_on {
             scalar -= self.artificial_viscosity(vij, xij, r2, 0.5 * (o.f.rho + rho_j));
         }
         let mut acc = grad_w * (m * scalar);
-        if self.viscous {
+        if self.base.viscous {
             // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W (Eq. 8, 3).
-            acc += (o.f.strain + self.strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
+            acc += (o.f.strain + self.base.strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
         }
         let (mut drho_i, mut drho_j) = (0.0, 0.0);
         if self.continuity {
@@ -846,25 +812,29 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
     /// velocity (zero: the tank frame), and the shifting sums.
     #[inline(always)]
     fn wall_term(&self, o: &ForceOwner<D>, w: usize) -> Option<WallPairTerm<D>> {
-        let c = self.c;
+        let c = &self.base.c;
         let m = c.mass;
-        let xiw = o.x - self.wall_pos[w];
+        let xiw = o.x - self.base.wall_pos[w];
         let r2 = xiw.norm_squared();
         if r2 >= c.support_sq {
             return None;
         }
         let r = r2.sqrt();
         let grad_w = xiw * c.kernel.gradient_factor(r);
-        let inv_rho_iw = o.inv_rho * self.wall_inv_rho[w];
-        let mut scalar = -(o.p + self.wall_p[w]) * inv_rho_iw;
+        let inv_rho_iw = o.inv_rho * self.base.wall_inv_rho[w];
+        let mut scalar = -(o.p + self.base.wall_p[w]) * inv_rho_iw;
         if self.wall_av {
             let v_w = if self.mirrored {
                 self.wall_vel[w]
             } else {
                 Vector::<D>::zeros()
             };
-            scalar -=
-                self.artificial_viscosity(o.v - v_w, xiw, r2, 0.5 * (o.rho + self.wall_rho[w]));
+            scalar -= self.artificial_viscosity(
+                o.v - v_w,
+                xiw,
+                r2,
+                0.5 * (o.rho + self.base.wall_rho[w]),
+            );
         }
         let mut acc = grad_w * (m * scalar);
         if self.wall_viscous {
@@ -876,7 +846,7 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
             0.0
         };
         let (grad_c, kernel_sum) = if self.shifting {
-            let volume_w = m * self.wall_inv_rho[w];
+            let volume_w = m * self.base.wall_inv_rho[w];
             (grad_w * volume_w, volume_w * c.kernel.value(r))
         } else {
             (Vector::<D>::zeros(), 0.0)
@@ -887,6 +857,73 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
             grad_c,
             kernel_sum,
         })
+    }
+}
+
+/// The arrays the modern force pass writes, taken out of the fluid and the state while the
+/// pair terms read the rest (no allocation: empty Vecs stand in until [`Self::restore`]).
+struct ForceOutputs<const D: usize> {
+    acceleration: Vec<Vector<D>>,
+    density_rate: Vec<f64>,
+    shift_gradient: Vec<Vector<D>>,
+    shift_kernel_sum: Vec<f64>,
+}
+
+impl<const D: usize> ForceOutputs<D> {
+    fn take(fluid: &mut Fluid<D>, st: &mut ModernState<D>) -> Self {
+        ForceOutputs {
+            acceleration: std::mem::take(&mut fluid.acceleration),
+            density_rate: std::mem::take(&mut fluid.density_rate),
+            shift_gradient: std::mem::take(&mut st.shift_gradient),
+            shift_kernel_sum: std::mem::take(&mut st.shift_kernel_sum),
+        }
+    }
+
+    fn restore(self, fluid: &mut Fluid<D>, st: &mut ModernState<D>) {
+        fluid.acceleration = self.acceleration;
+        fluid.density_rate = self.density_rate;
+        st.shift_gradient = self.shift_gradient;
+        st.shift_kernel_sum = self.shift_kernel_sum;
+    }
+}
+
+/// Owner i's running sums over its pairs: acceleration, dρ/dt, and the shifting's ∇C and
+/// kernel sum.
+struct OwnerSums<const D: usize> {
+    acc: Vector<D>,
+    drho: f64,
+    grad_c: Vector<D>,
+    ksum: f64,
+}
+
+impl<const D: usize> OwnerSums<D> {
+    fn new(ksum: f64) -> Self {
+        OwnerSums {
+            acc: Vector::<D>::zeros(),
+            drho: 0.0,
+            grad_c: Vector::<D>::zeros(),
+            ksum,
+        }
+    }
+
+    /// i's share of a fluid pair.
+    #[inline(always)]
+    fn add_fluid(&mut self, pair: &FluidPairTerm<D>, shifting: bool) {
+        self.acc += pair.acc;
+        self.drho += pair.drho_i;
+        if shifting {
+            self.grad_c += pair.grad_w * pair.volume_j;
+            self.ksum += pair.volume_j * pair.w;
+        }
+    }
+
+    /// A fluid–wall pair.
+    #[inline(always)]
+    fn add_wall(&mut self, wall: &WallPairTerm<D>) {
+        self.acc += wall.acc;
+        self.drho += wall.drho;
+        self.grad_c += wall.grad_c;
+        self.ksum += wall.kernel_sum;
     }
 }
 
@@ -905,69 +942,51 @@ fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
 ) {
     let shifting = st.k.shifting.is_some();
     let w0 = c.kernel.value(0.0);
-    // The arrays written leave the fluid and the state while the pair terms read the rest
-    // (no allocation: empty Vecs stand in).
-    let mut acceleration = std::mem::take(&mut fluid.acceleration);
-    let mut density_rate = std::mem::take(&mut fluid.density_rate);
-    let mut shift_gradient = std::mem::take(&mut st.shift_gradient);
-    let mut shift_kernel_sum = std::mem::take(&mut st.shift_kernel_sum);
+    let mut out = ForceOutputs::take(fluid, st);
     {
         let terms = ModernPairTerms::new(c, fluid, walls, st);
         let pair_loop =
             |i: usize, acc_out: &mut Vector<D>, drho_out: &mut f64| -> (Vector<D>, f64) {
                 let t = &terms;
                 let o = t.owner(i);
-                let mut acc = Vector::<D>::zeros();
-                let mut drho = 0.0;
-                let mut grad_c = Vector::<D>::zeros();
-                let mut ksum = 0.0;
+                let mut sums = OwnerSums::new(0.0);
                 search.for_each_fluid_candidate(&o.f.x, |j| {
                     if j == i {
                         if shifting {
-                            ksum += o.volume * w0;
+                            sums.ksum += o.volume * w0;
                         }
                         return;
                     }
-                    let xij = o.f.x - t.pos[j];
+                    let xij = o.f.x - t.base.pos[j];
                     let r2 = xij.norm_squared();
-                    if r2 >= c.support_sq {
-                        return;
-                    }
-                    let pair = t.fluid_pair(&o, j, xij, r2);
-                    acc += pair.acc;
-                    drho += pair.drho_i;
-                    if shifting {
-                        grad_c += pair.grad_w * pair.volume_j;
-                        ksum += pair.volume_j * pair.w;
+                    if r2 < c.support_sq {
+                        sums.add_fluid(&t.fluid_pair(&o, j, xij, r2), shifting);
                     }
                 });
                 search.for_each_wall_candidate(&o.f.x, |w| {
                     if let Some(wall) = t.wall_term(&o.f, w) {
-                        acc += wall.acc;
-                        drho += wall.drho;
-                        grad_c += wall.grad_c;
-                        ksum += wall.kernel_sum;
+                        sums.add_wall(&wall);
                     }
                 });
-                *acc_out = acc + body_force;
-                *drho_out = drho;
-                (grad_c, ksum)
+                *acc_out = sums.acc + body_force;
+                *drho_out = sums.drho;
+                (sums.grad_c, sums.ksum)
             };
         if shifting {
-            acceleration
+            out.acceleration
                 .par_iter_mut()
-                .zip(density_rate.par_iter_mut())
-                .zip(shift_gradient.par_iter_mut())
-                .zip(shift_kernel_sum.par_iter_mut())
+                .zip(out.density_rate.par_iter_mut())
+                .zip(out.shift_gradient.par_iter_mut())
+                .zip(out.shift_kernel_sum.par_iter_mut())
                 .enumerate()
                 .with_min_len(PAR_CHUNK)
                 .for_each(|(i, (((acc, drho), g), ks))| {
                     (*g, *ks) = pair_loop(i, acc, drho);
                 });
         } else {
-            acceleration
+            out.acceleration
                 .par_iter_mut()
-                .zip(density_rate.par_iter_mut())
+                .zip(out.density_rate.par_iter_mut())
                 .enumerate()
                 .with_min_len(PAR_CHUNK)
                 .for_each(|(i, (acc, drho))| {
@@ -975,10 +994,7 @@ fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
                 });
         }
     }
-    fluid.acceleration = acceleration;
-    fluid.density_rate = density_rate;
-    st.shift_gradient = shift_gradient;
-    st.shift_kernel_sum = shift_kernel_sum;
+    out.restore(fluid, st);
 }
 
 /// Strain rate V of Eq. 4–5 over the fluid neighbours (as [`strain_pass`]) on cell-sorted
@@ -1058,63 +1074,52 @@ fn modern_force_pass_sorted<const D: usize>(
     let shifting = st.k.shifting.is_some();
     let w0 = c.kernel.value(0.0);
     let n = fluid.position.len();
-    // The arrays written leave the fluid and the state while the pair terms read the rest
-    // (no allocation: empty Vecs stand in).
-    let mut acceleration = std::mem::take(&mut fluid.acceleration);
-    let mut density_rate = std::mem::take(&mut fluid.density_rate);
-    let mut shift_gradient = std::mem::take(&mut st.shift_gradient);
-    let mut shift_kernel_sum = std::mem::take(&mut st.shift_kernel_sum);
-    acceleration
+    let mut out = ForceOutputs::take(fluid, st);
+    out.acceleration
         .par_iter_mut()
-        .zip(density_rate.par_iter_mut())
+        .zip(out.density_rate.par_iter_mut())
         .with_min_len(PAR_CHUNK)
         .for_each(|(a, d)| {
             *a = body_force;
             *d = 0.0;
         });
     if shifting {
-        shift_gradient
+        out.shift_gradient
             .par_iter_mut()
-            .zip(shift_kernel_sum.par_iter_mut())
+            .zip(out.shift_kernel_sum.par_iter_mut())
             .with_min_len(PAR_CHUNK)
             .for_each(|(g, s)| {
                 *g = Vector::<D>::zeros();
                 *s = 0.0;
             });
     }
-    debug_assert!(!shifting || shift_gradient.len() == n);
+    debug_assert!(!shifting || out.shift_gradient.len() == n);
     {
-        let acc_shared = SharedSlice::new(&mut acceleration);
-        let drho_shared = SharedSlice::new(&mut density_rate);
-        let grad_c_shared = SharedSlice::new(&mut shift_gradient);
-        let ksum_shared = SharedSlice::new(&mut shift_kernel_sum);
+        let acc_shared = SharedSlice::new(&mut out.acceleration);
+        let drho_shared = SharedSlice::new(&mut out.density_rate);
+        let grad_c_shared = SharedSlice::new(&mut out.shift_gradient);
+        let ksum_shared = SharedSlice::new(&mut out.shift_kernel_sum);
         let terms = ModernPairTerms::new(c, fluid, walls, st);
         colour_sweep(blocks, |_, begin, end| {
             let t = &terms;
             for i in begin..end {
                 let o = t.owner(i);
-                let mut acc = Vector::<D>::zeros();
-                let mut drho = 0.0;
-                let mut grad_c = Vector::<D>::zeros();
-                let mut ksum = if shifting { o.volume * w0 } else { 0.0 };
+                let mut sums = OwnerSums::new(if shifting { o.volume * w0 } else { 0.0 });
                 grid.for_each_forward_range(i, &o.f.x, |j0, j1| {
                     for j in j0..j1 {
-                        let xij = o.f.x - t.pos[j];
+                        let xij = o.f.x - t.base.pos[j];
                         let r2 = xij.norm_squared();
                         if r2 >= c.support_sq {
                             continue;
                         }
                         let pair = t.fluid_pair(&o, j, xij, r2);
-                        acc += pair.acc;
-                        drho += pair.drho_i;
+                        sums.add_fluid(&pair, shifting);
                         // SAFETY (all four): j is in this block or the next (colour_blocks).
                         unsafe {
                             *acc_shared.at(j) -= pair.acc;
                             *drho_shared.at(j) += pair.drho_j;
                         }
                         if shifting {
-                            grad_c += pair.grad_w * pair.volume_j;
-                            ksum += pair.volume_j * pair.w;
                             unsafe {
                                 *grad_c_shared.at(j) -= pair.grad_w * o.volume;
                                 *ksum_shared.at(j) += o.volume * pair.w;
@@ -1124,26 +1129,20 @@ fn modern_force_pass_sorted<const D: usize>(
                 });
                 grid.for_each_wall_candidate(&o.f.x, |w| {
                     if let Some(wall) = t.wall_term(&o.f, w) {
-                        acc += wall.acc;
-                        drho += wall.drho;
-                        grad_c += wall.grad_c;
-                        ksum += wall.kernel_sum;
+                        sums.add_wall(&wall);
                     }
                 });
                 // SAFETY: slot i belongs to this block.
                 unsafe {
-                    *acc_shared.at(i) += acc;
-                    *drho_shared.at(i) += drho;
+                    *acc_shared.at(i) += sums.acc;
+                    *drho_shared.at(i) += sums.drho;
                     if shifting {
-                        *grad_c_shared.at(i) += grad_c;
-                        *ksum_shared.at(i) += ksum;
+                        *grad_c_shared.at(i) += sums.grad_c;
+                        *ksum_shared.at(i) += sums.ksum;
                     }
                 }
             }
         });
     }
-    fluid.acceleration = acceleration;
-    fluid.density_rate = density_rate;
-    st.shift_gradient = shift_gradient;
-    st.shift_kernel_sum = shift_kernel_sum;
+    out.restore(fluid, st);
 }
