@@ -447,7 +447,6 @@ fn run_case<const D: usize>(
                 let wall = t0.elapsed().as_secs_f64();
                 timing.wall_s += wall;
                 timing.cpu_s += process_cpu_s() - cpu0;
-                timing.best_step_s = timing.best_step_s.min(wall / n as f64);
                 timing.block_step_s[b] = wall / n as f64;
                 timing.phases = phase_sum(timing.phases, phase_delta(sim.phase_times(), p0));
                 Ok(())
@@ -460,12 +459,12 @@ fn run_case<const D: usize>(
         let PoolTiming {
             wall_s,
             cpu_s,
-            best_step_s: best_block,
             phases,
             block_step_s,
         } = *timing;
         let mut per_step = block_step_s[..blocks].to_vec();
         per_step.sort_by(f64::total_cmp);
+        let best_block = per_step[0];
         let median_step_s = if blocks % 2 == 1 {
             per_step[blocks / 2]
         } else {
@@ -518,27 +517,13 @@ fn run_case<const D: usize>(
 }
 
 /// The timed blocks of one pool, summed.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 struct PoolTiming {
     wall_s: f64,
     cpu_s: f64,
-    /// Wall time per step of the fastest block.
-    best_step_s: f64,
     phases: PhaseTimes,
     /// Wall time per step of each block (the first `blocks` entries).
     block_step_s: [f64; BLOCKS],
-}
-
-impl Default for PoolTiming {
-    fn default() -> Self {
-        PoolTiming {
-            wall_s: 0.0,
-            cpu_s: 0.0,
-            best_step_s: f64::INFINITY,
-            phases: PhaseTimes::default(),
-            block_step_s: [0.0; BLOCKS],
-        }
-    }
 }
 
 fn phase_sum(a: PhaseTimes, b: PhaseTimes) -> PhaseTimes {
