@@ -148,7 +148,37 @@ struct TheoryArgs {
     ron: bool,
 }
 
+/// Stops with a clear message when the binary was built for vector instructions (x86-64-v3,
+/// see `.cargo/config.toml`) that this CPU lacks, instead of dying on an illegal instruction
+/// in the middle of a run.
+fn check_cpu() -> Result<(), String> {
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    {
+        let missing: Vec<&str> = [
+            ("avx2", std::arch::is_x86_feature_detected!("avx2")),
+            ("fma", std::arch::is_x86_feature_detected!("fma")),
+            ("bmi2", std::arch::is_x86_feature_detected!("bmi2")),
+        ]
+        .iter()
+        .filter(|(_, present)| !present)
+        .map(|(name, _)| *name)
+        .collect();
+        if !missing.is_empty() {
+            return Err(format!(
+                "this slosh was built for x86-64-v3 CPUs, and this CPU lacks {}: rebuild it for \
+                 this machine with RUSTFLAGS=\"-C target-cpu=native\" cargo build --release",
+                missing.join(", ")
+            ));
+        }
+    }
+    Ok(())
+}
+
 fn main() -> ExitCode {
+    if let Err(message) = check_cpu() {
+        eprintln!("error: {message}");
+        return ExitCode::FAILURE;
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => cmd_run(args),

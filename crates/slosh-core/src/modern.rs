@@ -48,6 +48,9 @@ pub(super) struct ModernState<const D: usize> {
     /// Wall velocity seen by the fluid with no-slip Adami walls (m/s).
     wall_velocity: Vec<Vector<D>>,
     wall_pressure_next: Vec<f64>,
+    /// The fluid's neighbour lists hold the pairs of the current positions (filled by the
+    /// sorted strain sweep, void after each re-sort).
+    lists_fresh: bool,
 }
 
 impl<const D: usize> ModernState<D> {
@@ -81,6 +84,7 @@ impl<const D: usize> ModernState<D> {
             shift_kernel_sum: vec![1.0; shift_len],
             wall_velocity: vec![Vector::<D>::zeros(); if k.no_slip { n_wall } else { 0 }],
             wall_pressure_next: vec![0.0; n_wall],
+            lists_fresh: false,
         }
     }
 }
@@ -112,35 +116,27 @@ impl<const D: usize> Simulation<D> {
         };
         let order = grid.sort_order(&self.fluid.position);
         let f = &mut self.fluid;
-        let (sv, sf, st, su) = (
+        let (sv, sf, su) = (
             &mut self.scratch_vec,
             &mut self.scratch_f64,
-            &mut self.scratch_tensor,
             &mut self.scratch_u32,
         );
+        // The arrays the step reads before it writes them. Not moved, since the passes after
+        // the sort overwrite them whole before anything reads them: the acceleration and dρ/dt
+        // and the shifting sums (force pass), the strain rate (strain or density pass; all
+        // zeros without viscosity) and the hydrostatic density (density stage).
         permute_par(&mut f.position, order, sv);
         permute_par(&mut f.velocity, order, sv);
         permute_par(&mut f.velocity_half, order, sv);
-        permute_par(&mut f.acceleration, order, sv);
         permute_par(&mut f.density, order, sf);
         permute_par(&mut f.inverse_density, order, sf);
         permute_par(&mut f.pressure, order, sf);
         permute_par(&mut f.kernel_sum, order, sf);
-        permute_par(&mut f.density_rate, order, sf);
-        permute_par(&mut f.strain_rate, order, st);
         permute_par(&mut f.id, order, su);
         if let Some(m) = &mut self.modern {
-            for v in [
-                &mut m.density_start,
-                &mut m.hydro_density,
-                &mut m.shift_kernel_sum,
-            ] {
-                if !v.is_empty() {
-                    permute_par(v, order, sf);
-                }
-            }
-            if !m.shift_gradient.is_empty() {
-                permute_par(&mut m.shift_gradient, order, sv);
+            m.lists_fresh = false;
+            if !m.density_start.is_empty() {
+                permute_par(&mut m.density_start, order, sf);
             }
         }
         grid.mark_sorted();
@@ -429,7 +425,10 @@ impl<const D: usize> Simulation<D> {
             ));
         } else if c.viscosity > 0.0 {
             match &self.search {
-                Search::Grid(s) => strain_pass_sorted(s, &self.blocks, &c, &mut self.fluid),
+                Search::Grid(s) => {
+                    strain_pass_sorted(s, &self.blocks, &c, &mut self.fluid, &self.walls.position);
+                    st.lists_fresh = true;
+                }
                 Search::KdTree(s) => strain_pass(s, &c, &mut self.fluid),
             }
         }
@@ -461,15 +460,19 @@ impl<const D: usize> Simulation<D> {
         let c = self.constants;
         let st = self.modern.as_mut().expect("modern state");
         match &self.search {
-            Search::Grid(s) => modern_force_pass_sorted(
-                s,
-                &self.blocks,
-                &c,
-                &mut self.fluid,
-                &self.walls,
-                st,
-                body_force,
-            ),
+            Search::Grid(s) => {
+                let lists = st.lists_fresh;
+                modern_force_pass_sorted(
+                    s,
+                    &self.blocks,
+                    &c,
+                    &mut self.fluid,
+                    &self.walls,
+                    st,
+                    body_force,
+                    lists,
+                )
+            }
             Search::KdTree(s) => {
                 modern_force_pass(s, &c, &mut self.fluid, &self.walls, st, body_force)
             }
@@ -740,34 +743,24 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
         }
     }
 
-    /// Eq. 10: Π_ij = (−α c̄ φ + β φ²)/ρ̄ for approaching pairs, 0 otherwise (a receding
-    /// pair has φ = 0).
-    #[inline(always)]
-    fn artificial_viscosity(&self, vij: Vector<D>, xij: Vector<D>, r2: f64, rho_mean: f64) -> f64 {
-        let c = &self.base.c;
-        let v_dot_x = vij.dot(&xij).min(0.0);
-        let phi = c.kernel.h * v_dot_x / (r2 + self.base.eps_h2); // Eq. 11
-        (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) / rho_mean
-    }
-
     /// The pair of fluid particles i (`o`) and j at squared distance r2 within the support:
     /// Eq. 8 (pressure, artificial viscosity, viscous stress), the continuity equation
     /// dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij (Monaghan 1992) with the δ-SPH diffusion term
     /// (Molteni & Colagrossi 2009; Fourtakas et al. 2019), and what the shifting sums need.
+    /// `r` is the distance and `factors` the pair's (∇W factor, 1/s, 1/ρ̄) of
+    /// [`ForceSweep::pair_factors`].
     #[inline(always)]
     fn fluid_pair(
         &self,
         o: &ModernOwner<D>,
         j: usize,
         xij: Vector<D>,
-        r2: f64,
+        r: f64,
+        (f, inv_s, inv_rho_mean): (f64, f64, f64),
     ) -> FluidPairTerm<D> {
         let c = &self.base.c;
         let m = c.mass;
-        let r = r2.sqrt();
-        let f = c.kernel.gradient_factor(r);
         let grad_w = xij * f;
-        let rho_j = self.base.rho[j];
         let inv_rho_j = self.base.inv_rho[j];
         let volume_j = m * inv_rho_j;
         let inv_rho_ij = o.f.inv_rho * inv_rho_j;
@@ -775,7 +768,9 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
         // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
         let mut scalar = -(o.f.p + self.base.p[j]) * inv_rho_ij;
         if self.base.av_on {
-            scalar -= self.artificial_viscosity(vij, xij, r2, 0.5 * (o.f.rho + rho_j));
+            scalar -= self
+                .base
+                .artificial_viscosity(vij, xij, inv_s, inv_rho_mean);
         }
         let mut acc = grad_w * (m * scalar);
         if self.base.viscous {
@@ -807,6 +802,19 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
         }
     }
 
+    /// [`Self::fluid_pair`] with the pair factors computed here (the paths without a batch).
+    #[inline(always)]
+    fn fluid_pair_at(
+        &self,
+        o: &ModernOwner<D>,
+        j: usize,
+        xij: Vector<D>,
+        r2: f64,
+    ) -> FluidPairTerm<D> {
+        let factors = self.base.pair_factors(r2, o.f.rho + self.base.rho[j]);
+        self.fluid_pair(o, j, xij, r2.sqrt().max(1e-150), factors)
+    }
+
     /// The pair of fluid particle `o` and wall particle `w` if within the support: Eq. 8 with
     /// the wall's pressure (and velocity when mirrored), the continuity term of the wall's
     /// velocity (zero: the tank frame), and the shifting sums.
@@ -819,8 +827,8 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
         if r2 >= c.support_sq {
             return None;
         }
-        let r = r2.sqrt();
-        let grad_w = xiw * c.kernel.gradient_factor(r);
+        let (f, inv_s, inv_rho_mean) = self.base.pair_factors(r2, o.rho + self.base.wall_rho[w]);
+        let grad_w = xiw * f;
         let inv_rho_iw = o.inv_rho * self.base.wall_inv_rho[w];
         let mut scalar = -(o.p + self.base.wall_p[w]) * inv_rho_iw;
         if self.wall_av {
@@ -829,12 +837,9 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
             } else {
                 Vector::<D>::zeros()
             };
-            scalar -= self.artificial_viscosity(
-                o.v - v_w,
-                xiw,
-                r2,
-                0.5 * (o.rho + self.base.wall_rho[w]),
-            );
+            scalar -= self
+                .base
+                .artificial_viscosity(o.v - v_w, xiw, inv_s, inv_rho_mean);
         }
         let mut acc = grad_w * (m * scalar);
         if self.wall_viscous {
@@ -847,7 +852,7 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
         };
         let (grad_c, kernel_sum) = if self.shifting {
             let volume_w = m * self.base.wall_inv_rho[w];
-            (grad_w * volume_w, volume_w * c.kernel.value(r))
+            (grad_w * volume_w, volume_w * c.kernel.value(r2.sqrt()))
         } else {
             (Vector::<D>::zeros(), 0.0)
         };
@@ -960,7 +965,7 @@ fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
                     let xij = o.f.x - t.base.pos[j];
                     let r2 = xij.norm_squared();
                     if r2 < c.support_sq {
-                        sums.add_fluid(&t.fluid_pair(&o, j, xij, r2), shifting);
+                        sums.add_fluid(&t.fluid_pair_at(&o, j, xij, r2), shifting);
                     }
                 });
                 search.for_each_wall_candidate(&o.f.x, |w| {
@@ -997,50 +1002,125 @@ fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
     out.restore(fluid, st);
 }
 
+/// What the sorted strain sweep reads and writes, so that its batch evaluation is an
+/// always-inlined method (a closure called from two places is compiled as a function).
+struct StrainSweep<'a, const D: usize> {
+    kernel: Kernel,
+    m: f64,
+    pos: &'a [Vector<D>],
+    vel: &'a [Vector<D>],
+    inv_rho: &'a [f64],
+    grad_acc: &'a SharedSlice<Tensor<D>>,
+}
+
+impl<const D: usize> StrainSweep<'_, D> {
+    /// A batch of pairs (i, j) within the support: (v_j − v_i) ⊗ ∇_i W_ij to i's sum and to
+    /// j's, with the kernel factors of the batch from one vectorised loop.
+    #[inline(always)]
+    fn batch(&self, i: usize, batch_j: &[u32], batch_r2: &[f64], grad_v: &mut Tensor<D>) {
+        let m = self.m;
+        let (xi, vi, volume_i) = (self.pos[i], self.vel[i], m * self.inv_rho[i]);
+        let mut batch_w = [0.0f64; BATCH];
+        let mut batch_f = [0.0f64; BATCH];
+        self.kernel
+            .values_and_gradient_factors(batch_r2, &mut batch_w, &mut batch_f);
+        for (&j, &f) in batch_j.iter().zip(&batch_f) {
+            let j = j as usize;
+            let grad_w = (xi - self.pos[j]) * f;
+            let outer = (self.vel[j] - vi) * grad_w.transpose();
+            *grad_v += outer * (m * self.inv_rho[j]);
+            // SAFETY: j is in this block or the next (colour_blocks).
+            unsafe {
+                *self.grad_acc.at(j) += outer * volume_i;
+            }
+        }
+    }
+}
+
 /// Strain rate V of Eq. 4–5 over the fluid neighbours (as [`strain_pass`]) on cell-sorted
-/// arrays, each pair once: (v_j − v_i) ⊗ ∇_i W_ij is the same tensor seen from j.
+/// arrays, each pair once: (v_j − v_i) ⊗ ∇_i W_ij is the same tensor seen from j. Fills the
+/// half neighbour lists (forward fluid neighbours, then all wall neighbours) that the force
+/// sweep of the same positions reads, as the paper's density sweep does.
 fn strain_pass_sorted<const D: usize>(
     grid: &CellGrid<D>,
     blocks: &[u32],
     c: &PassConstants,
     fluid: &mut Fluid<D>,
+    wall_pos: &[Vector<D>],
 ) {
     let kernel = c.kernel;
     let m = c.mass;
     let pos = &fluid.position;
     let vel = &fluid.velocity;
     let inv_rho = &fluid.inverse_density;
+    let capacity = fluid.neighbours.capacity;
     fluid
         .strain_rate
         .par_iter_mut()
         .with_min_len(PAR_CHUNK)
         .for_each(|g| *g = Tensor::<D>::zeros());
     let grad_acc = SharedSlice::new(&mut fluid.strain_rate);
+    let entries = SharedSlice::new(&mut fluid.neighbours.entries);
+    let counts = SharedSlice::new(&mut fluid.neighbours.count);
+    let starts = SharedSlice::new(&mut fluid.neighbours.start);
+    let sweep = StrainSweep {
+        kernel,
+        m,
+        pos,
+        vel,
+        inv_rho,
+        grad_acc: &grad_acc,
+    };
     colour_sweep(blocks, |_, begin, end| {
+        // The block's lists are packed from the start of its share of the entries (see
+        // `density_pass_sorted`).
+        let mut cursor = begin * capacity;
         for i in begin..end {
             let xi = pos[i];
-            let vi = vel[i];
-            let volume_i = m * inv_rho[i];
+            // SAFETY: entries begin·capacity..end·capacity belong to this block, and
+            // cursor + capacity ≤ (i + 1)·capacity.
+            let list = unsafe { entries.slice(cursor, capacity) };
+            let (mut listed, mut overflow) = (0usize, false);
             let mut grad_v = Tensor::<D>::zeros();
+            let mut batch_j = [0u32; BATCH];
+            let mut batch_r2 = [0.0f64; BATCH];
+            let mut batched = 0usize;
             grid.for_each_forward_range(i, &xi, |j0, j1| {
-                for j in j0..j1 {
-                    let xij = xi - pos[j];
-                    let r2 = xij.norm_squared();
-                    if r2 < c.support_sq {
-                        let grad_w = xij * kernel.gradient_factor(r2.sqrt());
-                        let outer = (vel[j] - vi) * grad_w.transpose();
-                        grad_v += outer * (m * inv_rho[j]);
-                        // SAFETY: j is in this block or the next (colour_blocks).
-                        unsafe {
-                            *grad_acc.at(j) += outer * volume_i;
-                        }
+                for (j, xj) in (j0..j1).zip(&pos[j0..j1]) {
+                    let r2 = (xi - xj).norm_squared();
+                    batch_j[batched] = j as u32;
+                    batch_r2[batched] = r2;
+                    batched += (r2 < c.support_sq) as usize;
+                    if batched == BATCH {
+                        sweep.batch(i, &batch_j, &batch_r2, &mut grad_v);
+                        (listed, overflow) = append(list, listed, overflow, &batch_j);
+                        batched = 0;
+                    }
+                }
+            });
+            sweep.batch(i, &batch_j[..batched], &batch_r2[..batched], &mut grad_v);
+            (listed, overflow) = append(list, listed, overflow, &batch_j[..batched]);
+            grid.for_each_wall_candidate(&xi, |w| {
+                if (xi - wall_pos[w]).norm_squared() < c.support_sq {
+                    if listed < capacity {
+                        list[listed] = w as u32 | WALL_NEIGHBOUR;
+                        listed += 1;
+                    } else {
+                        overflow = true;
                     }
                 }
             });
             // SAFETY: slot i belongs to this block.
             unsafe {
                 *grad_acc.at(i) += grad_v;
+                *counts.at(i) = if overflow {
+                    LIST_OVERFLOW
+                } else {
+                    listed as u16
+                };
+                *starts.at(i) = cursor as u32;
             }
+            cursor += listed;
         }
     });
     // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
@@ -1058,10 +1138,40 @@ fn strain_pass_sorted<const D: usize>(
         });
 }
 
+/// The slots of the sorted modern force sweep that a fluid pair writes for its second
+/// particle j.
+struct PairScatter<'a, const D: usize> {
+    acc: &'a SharedSlice<Vector<D>>,
+    drho: &'a SharedSlice<f64>,
+    grad_c: &'a SharedSlice<Vector<D>>,
+    ksum: &'a SharedSlice<f64>,
+    shifting: bool,
+}
+
+impl<const D: usize> PairScatter<'_, D> {
+    /// A fluid pair's shares: i's to its sums, j's to j's slots.
+    #[inline(always)]
+    fn add(&self, sums: &mut OwnerSums<D>, o: &ModernOwner<D>, j: usize, pair: &FluidPairTerm<D>) {
+        sums.add_fluid(pair, self.shifting);
+        // SAFETY (all four): j is in this block or the next (colour_blocks).
+        unsafe {
+            *self.acc.at(j) -= pair.acc;
+            *self.drho.at(j) += pair.drho_j;
+            if self.shifting {
+                *self.grad_c.at(j) -= pair.grad_w * o.volume;
+                *self.ksum.at(j) += o.volume * pair.w;
+            }
+        }
+    }
+}
+
 /// The force pass of the modern step (as [`modern_force_pass`]) on cell-sorted arrays,
 /// each fluid pair once: the momentum term and the shifting gradient are antisymmetric in
 /// i and j (∇_j W_ji = −∇_i W_ij), the continuity term m (v_i − v_j)·∇_i W_ij symmetric, and
-/// the diffusion term of j is that of i with i and j exchanged.
+/// the diffusion term of j is that of i with i and j exchanged. With `lists` (the strain
+/// sweep's, of these positions) the pairs come from the lists, their factors in vectorised
+/// batches; otherwise, or for a particle whose list overflowed, from the grid.
+#[allow(clippy::too_many_arguments)]
 fn modern_force_pass_sorted<const D: usize>(
     grid: &CellGrid<D>,
     blocks: &[u32],
@@ -1070,6 +1180,7 @@ fn modern_force_pass_sorted<const D: usize>(
     walls: &Walls<D>,
     st: &mut ModernState<D>,
     body_force: Vector<D>,
+    lists: bool,
 ) {
     let shifting = st.k.shifting.is_some();
     let w0 = c.kernel.value(0.0);
@@ -1100,38 +1211,59 @@ fn modern_force_pass_sorted<const D: usize>(
         let grad_c_shared = SharedSlice::new(&mut out.shift_gradient);
         let ksum_shared = SharedSlice::new(&mut out.shift_kernel_sum);
         let terms = ModernPairTerms::new(c, fluid, walls, st);
+        let list_entries = fluid.neighbours.entries.as_slice();
+        let list_count = fluid.neighbours.count.as_slice();
+        let list_start = fluid.neighbours.start.as_slice();
+        let scatter = PairScatter {
+            acc: &acc_shared,
+            drho: &drho_shared,
+            grad_c: &grad_c_shared,
+            ksum: &ksum_shared,
+            shifting,
+        };
         colour_sweep(blocks, |_, begin, end| {
             let t = &terms;
+            let pos = t.base.pos;
+            let mut batch = PairFactorBatch::new();
             for i in begin..end {
                 let o = t.owner(i);
+                let xi = o.f.x;
                 let mut sums = OwnerSums::new(if shifting { o.volume * w0 } else { 0.0 });
-                grid.for_each_forward_range(i, &o.f.x, |j0, j1| {
-                    for j in j0..j1 {
-                        let xij = o.f.x - t.base.pos[j];
-                        let r2 = xij.norm_squared();
-                        if r2 >= c.support_sq {
-                            continue;
+                let count = if lists { list_count[i] } else { LIST_OVERFLOW };
+                if count != LIST_OVERFLOW {
+                    let first = list_start[i] as usize;
+                    let (fluid_list, wall_list) =
+                        split_walls(&list_entries[first..first + count as usize]);
+                    t.base.for_each_listed_pair(
+                        xi,
+                        o.f.rho,
+                        fluid_list,
+                        &mut batch,
+                        |j, xij, r, f| {
+                            scatter.add(&mut sums, &o, j, &t.fluid_pair(&o, j, xij, r, f));
+                        },
+                    );
+                    for &entry in wall_list {
+                        if let Some(wall) = t.wall_term(&o.f, (entry & !WALL_NEIGHBOUR) as usize) {
+                            sums.add_wall(&wall);
                         }
-                        let pair = t.fluid_pair(&o, j, xij, r2);
-                        sums.add_fluid(&pair, shifting);
-                        // SAFETY (all four): j is in this block or the next (colour_blocks).
-                        unsafe {
-                            *acc_shared.at(j) -= pair.acc;
-                            *drho_shared.at(j) += pair.drho_j;
-                        }
-                        if shifting {
-                            unsafe {
-                                *grad_c_shared.at(j) -= pair.grad_w * o.volume;
-                                *ksum_shared.at(j) += o.volume * pair.w;
+                    }
+                } else {
+                    grid.for_each_forward_range(i, &xi, |j0, j1| {
+                        for (j, xj) in (j0..j1).zip(&pos[j0..j1]) {
+                            let xij = xi - xj;
+                            let r2 = xij.norm_squared();
+                            if r2 < c.support_sq {
+                                scatter.add(&mut sums, &o, j, &t.fluid_pair_at(&o, j, xij, r2));
                             }
                         }
-                    }
-                });
-                grid.for_each_wall_candidate(&o.f.x, |w| {
-                    if let Some(wall) = t.wall_term(&o.f, w) {
-                        sums.add_wall(&wall);
-                    }
-                });
+                    });
+                    grid.for_each_wall_candidate(&xi, |w| {
+                        if let Some(wall) = t.wall_term(&o.f, w) {
+                            sums.add_wall(&wall);
+                        }
+                    });
+                }
                 // SAFETY: slot i belongs to this block.
                 unsafe {
                     *acc_shared.at(i) += sums.acc;

@@ -506,6 +506,8 @@ impl<const D: usize> Simulation<D> {
             sim.scratch_vec2 = vec![Vector::<D>::zeros(); n];
             sim.sort_and_index();
         } else if sim.modern.is_some() && matches!(sim.search, Search::Grid(_)) {
+            // The sorted strain sweep packs its lists by block (see `density_pass_sorted`).
+            sim.fluid.neighbours.start = vec![0; n];
             sim.sort_all_and_index();
         } else {
             sim.sort_by_cell();
@@ -1440,12 +1442,17 @@ impl<const D: usize> DensitySweep<'_, D> {
             }
         }
         (sums.rho, sums.kernel_sum, sums.grad_v) = (rho_sum, kernel_sum, grad_v);
-        let listed = sums.listed;
-        let room = batch_j.len().min(list.len() - listed);
-        list[listed..listed + room].copy_from_slice(&batch_j[..room]);
-        sums.listed += room;
-        sums.overflow |= room < batch_j.len();
+        (sums.listed, sums.overflow) = append(list, sums.listed, sums.overflow, batch_j);
     }
+}
+
+/// Appends `found` to a neighbour list filled up to `listed`, as far as it has room;
+/// returns the new fill and whether anything did not fit (or `overflow` already).
+#[inline(always)]
+fn append(list: &mut [u32], listed: usize, overflow: bool, found: &[u32]) -> (usize, bool) {
+    let room = found.len().min(list.len() - listed);
+    list[listed..listed + room].copy_from_slice(&found[..room]);
+    (listed + room, overflow || room < found.len())
 }
 
 /// Density pass (Eq. 19, 20, 18, 5) on cell-sorted fluid arrays: each fluid pair is
@@ -1698,6 +1705,48 @@ struct ForceSweep<'a, const D: usize> {
     wall_p: &'a [f64],
 }
 
+/// A batch of fluid pairs of one owner and their factors ([`ForceSweep::pair_factors_batch`]).
+struct PairFactorBatch {
+    /// Squared distance r² (m²): input.
+    r2: [f64; BATCH],
+    /// ρ_i + ρ_j (kg/m³): input.
+    rho_pair: [f64; BATCH],
+    /// Distance r (m), floored as in [`ForceSweep::pair_factors`].
+    r: [f64; BATCH],
+    /// (dW/dr)/r.
+    grad: [f64; BATCH],
+    /// 1/(r² + 0.01 h²) of Eq. 11.
+    inv_s: [f64; BATCH],
+    /// 1/ρ̄ = 2/(ρ_i + ρ_j).
+    inv_rho_mean: [f64; BATCH],
+}
+
+impl PairFactorBatch {
+    fn new() -> Self {
+        PairFactorBatch {
+            r2: [0.0; BATCH],
+            rho_pair: [0.0; BATCH],
+            r: [0.0; BATCH],
+            grad: [0.0; BATCH],
+            inv_s: [0.0; BATCH],
+            inv_rho_mean: [0.0; BATCH],
+        }
+    }
+
+    /// The factors of pair k as [`ForceSweep::pair_factors`] returns them.
+    #[inline(always)]
+    fn get(&self, k: usize) -> (f64, f64, f64) {
+        (self.grad[k], self.inv_s[k], self.inv_rho_mean[k])
+    }
+}
+
+/// A neighbour list of the sorted sweeps split into its fluid neighbours (first) and its
+/// wall neighbours (flagged, last).
+#[inline(always)]
+fn split_walls(list: &[u32]) -> (&[u32], &[u32]) {
+    list.split_at(list.partition_point(|&e| e & WALL_NEIGHBOUR == 0))
+}
+
 /// The fluid particle i of a row of pairs in a force sweep (paper and modern steps).
 struct ForceOwner<const D: usize> {
     x: Vector<D>,
@@ -1759,6 +1808,52 @@ impl<'a, const D: usize> ForceSweep<'a, D> {
         (grad_factor, inv * (r * rho_pair), inv * (2.0 * r * s))
     }
 
+    /// [`Self::pair_factors`] of the first `n` pairs of a batch (r² and ρ_i + ρ_j given),
+    /// bit for bit, in branch-free loops the compiler vectorises.
+    #[inline(always)]
+    fn pair_factors_batch(&self, n: usize, b: &mut PairFactorBatch) {
+        let mut inv_r = [0.0f64; BATCH];
+        for k in 0..n {
+            let rk = b.r2[k].sqrt().max(1e-150);
+            let s = b.r2[k] + self.eps_h2;
+            let rho_pair = b.rho_pair[k];
+            let inv = 1.0 / (rk * s * rho_pair);
+            b.r[k] = rk;
+            inv_r[k] = inv * (s * rho_pair);
+            b.inv_s[k] = inv * (rk * rho_pair);
+            b.inv_rho_mean[k] = inv * (2.0 * rk * s);
+        }
+        self.c
+            .kernel
+            .gradient_factors_with_inverse(&b.r[..n], &inv_r[..n], &mut b.grad[..n]);
+    }
+
+    /// Calls `visit(j, x_ij, r, factors)` for the fluid neighbours j of particle i (at
+    /// `xi`, density `rho_i`) in `fluid_list`, with the pair factors of
+    /// [`Self::pair_factors`] computed a batch at a time.
+    #[inline(always)]
+    fn for_each_listed_pair<F: FnMut(usize, Vector<D>, f64, (f64, f64, f64))>(
+        &self,
+        xi: Vector<D>,
+        rho_i: f64,
+        fluid_list: &[u32],
+        b: &mut PairFactorBatch,
+        mut visit: F,
+    ) {
+        for chunk in fluid_list.chunks(BATCH) {
+            for (k, &j) in chunk.iter().enumerate() {
+                let j = j as usize;
+                b.r2[k] = (xi - self.pos[j]).norm_squared();
+                b.rho_pair[k] = rho_i + self.rho[j];
+            }
+            self.pair_factors_batch(chunk.len(), b);
+            for (k, &j) in chunk.iter().enumerate() {
+                let j = j as usize;
+                visit(j, xi - self.pos[j], b.r[k], b.get(k));
+            }
+        }
+    }
+
     /// Eq. 10: Π_ij = (−α c̄ φ + β φ²)/ρ̄ for approaching pairs, 0 otherwise. Without a
     /// branch: a receding pair has φ = 0 and so Π = 0.
     #[inline(always)]
@@ -1779,9 +1874,20 @@ impl<'a, const D: usize> ForceSweep<'a, D> {
     /// subtracted from j.
     #[inline(always)]
     fn fluid_term(&self, o: &ForceOwner<D>, j: usize, xij: Vector<D>, r2: f64) -> Vector<D> {
+        self.fluid_term_with(o, j, xij, self.pair_factors(r2, o.rho + self.rho[j]))
+    }
+
+    /// [`Self::fluid_term`] with the pair's factors (∇W factor, 1/s, 1/ρ̄) given.
+    #[inline(always)]
+    fn fluid_term_with(
+        &self,
+        o: &ForceOwner<D>,
+        j: usize,
+        xij: Vector<D>,
+        (grad_factor, inv_s, inv_rho_mean): (f64, f64, f64),
+    ) -> Vector<D> {
         let c = &self.c;
         let m = c.mass;
-        let (grad_factor, inv_s, inv_rho_mean) = self.pair_factors(r2, o.rho + self.rho[j]);
         let grad_w = xij * grad_factor;
         let inv_rho_ij = o.inv_rho * self.inv_rho[j];
         // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
@@ -1847,6 +1953,7 @@ fn force_pass_sorted<const D: usize>(
     colour_sweep(blocks, |_, begin, end| {
         let s = &sweep;
         let (pos, wall_pos) = (s.pos, s.wall_pos);
+        let mut batch = PairFactorBatch::new();
         for i in begin..end {
             let o = s.owner(i);
             let xi = o.x;
@@ -1856,21 +1963,20 @@ fn force_pass_sorted<const D: usize>(
                 // The listed pairs are within the support (tested by the density sweep on
                 // the same positions).
                 let first = list_start[i] as usize;
-                for &entry in &list_entries[first..first + count as usize] {
-                    if entry & WALL_NEIGHBOUR == 0 {
-                        let j = entry as usize;
-                        let xij = xi - pos[j];
-                        let term = s.fluid_term(&o, j, xij, xij.norm_squared());
-                        acc += term;
-                        // SAFETY: j is in this block or the next (colour_blocks).
-                        unsafe {
-                            *acc_shared.at(j) -= term;
-                        }
-                    } else {
-                        let w = (entry & !WALL_NEIGHBOUR) as usize;
-                        let xiw = xi - wall_pos[w];
-                        acc += s.wall_term(&o, w, xiw, xiw.norm_squared());
+                let (fluid_list, wall_list) =
+                    split_walls(&list_entries[first..first + count as usize]);
+                s.for_each_listed_pair(xi, o.rho, fluid_list, &mut batch, |j, xij, _, f| {
+                    let term = s.fluid_term_with(&o, j, xij, f);
+                    acc += term;
+                    // SAFETY: j is in this block or the next (colour_blocks).
+                    unsafe {
+                        *acc_shared.at(j) -= term;
                     }
+                });
+                for &entry in wall_list {
+                    let w = (entry & !WALL_NEIGHBOUR) as usize;
+                    let xiw = xi - wall_pos[w];
+                    acc += s.wall_term(&o, w, xiw, xiw.norm_squared());
                 }
             } else {
                 grid.for_each_forward_range(i, &xi, |j0, j1| {

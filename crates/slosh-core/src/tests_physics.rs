@@ -131,8 +131,10 @@ fn explore_throughput() {
     }
 }
 
-/// The modern step's pair sweeps (cell grid: each pair once, on arrays sorted every step)
-/// must give the k-d tree backend's simulation (every pair from both sides) to round-off:
+/// The modern step's pair sweeps (cell grid: each pair once, on arrays sorted every step,
+/// the force sweep's pairs from the strain sweep's lists with their factors in vectorised
+/// batches) must give the k-d tree backend's simulation (every pair from both sides, searched
+/// and evaluated one by one) to round-off:
 /// 1e-9 relative on densities and positions after 20 steps, with every switch that adds a
 /// pair term on (continuity with Fourtakas diffusion, no-slip Adami walls, shifting).
 #[test]
