@@ -1397,8 +1397,8 @@ fn colour_sweep<F: Fn(usize, usize, usize) + Sync>(bounds: &[u32], block: F) {
         return;
     }
     let states = BlockStates::new(n_blocks);
-    rayon::broadcast(|_| {
-        while let Some(b) = states.claim() {
+    rayon::broadcast(|ctx| {
+        while let Some(b) = states.claim(ctx.index(), ctx.num_threads()) {
             run(b);
             states.finish(b);
         }
@@ -1412,8 +1412,6 @@ struct BlockStates {
     /// Per block: `TODO`, `RUNNING` or `DONE`.
     state: [std::sync::atomic::AtomicU8; Self::MAX_BLOCKS],
     n_blocks: usize,
-    /// Blocks below this one are all claimed (a hint that shortens the search).
-    first_unclaimed: std::sync::atomic::AtomicUsize,
 }
 
 impl BlockStates {
@@ -1426,7 +1424,6 @@ impl BlockStates {
         BlockStates {
             state: std::array::from_fn(|_| std::sync::atomic::AtomicU8::new(Self::TODO)),
             n_blocks,
-            first_unclaimed: std::sync::atomic::AtomicUsize::new(0),
         }
     }
 
@@ -1434,37 +1431,45 @@ impl BlockStates {
         b >= self.n_blocks || self.state[b].load(std::sync::atomic::Ordering::Acquire) == Self::DONE
     }
 
-    /// Claims the lowest block that may run now, waiting while blocks remain but none may;
-    /// `None` once every block is claimed.
-    fn claim(&self) -> Option<usize> {
+    /// Claims block `b` if it is still to do and may run now (an odd block reads what its
+    /// even neighbours wrote into its slots, so it waits until both are done).
+    fn try_claim(&self, b: usize) -> bool {
         use std::sync::atomic::Ordering;
+        self.state[b].load(Ordering::Relaxed) == Self::TODO
+            && (b % 2 == 0 || (self.is_done(b - 1) && self.is_done(b + 1)))
+            && self.state[b]
+                .compare_exchange(
+                    Self::TODO,
+                    Self::RUNNING,
+                    Ordering::Acquire,
+                    Ordering::Relaxed,
+                )
+                .is_ok()
+    }
+
+    /// Claims a block for thread `thread` of `threads`, waiting while blocks remain but none
+    /// may run; `None` once every block is claimed. Each thread has a home range of blocks,
+    /// the same in every sweep (`thread`/`threads` of the slots), which it takes lowest
+    /// first, so that its particles stay in its core's cache from sweep to sweep; with its
+    /// range exhausted it takes the highest block that may run elsewhere, the one its owner
+    /// would reach last.
+    fn claim(&self, thread: usize, threads: usize) -> Option<usize> {
+        let n = self.n_blocks;
+        let (home_lo, home_hi) = (thread * n / threads, (thread + 1) * n / threads);
         let mut spins = 0u32;
         loop {
-            let start = self.first_unclaimed.load(Ordering::Relaxed);
-            let mut any_todo = false;
-            for b in start..self.n_blocks {
-                if self.state[b].load(Ordering::Relaxed) != Self::TODO {
-                    continue;
-                }
-                any_todo = true;
-                // An odd block reads what its even neighbours wrote into its slots.
-                let ready = b % 2 == 0 || (self.is_done(b - 1) && self.is_done(b + 1));
-                if ready
-                    && self.state[b]
-                        .compare_exchange(
-                            Self::TODO,
-                            Self::RUNNING,
-                            Ordering::Acquire,
-                            Ordering::Relaxed,
-                        )
-                        .is_ok()
-                {
-                    if b == start {
-                        self.first_unclaimed.fetch_max(b + 1, Ordering::Relaxed);
-                    }
-                    return Some(b);
-                }
+            if let Some(b) = (home_lo..home_hi).find(|&b| self.try_claim(b)) {
+                return Some(b);
             }
+            if let Some(b) = (home_hi..n)
+                .chain(0..home_lo)
+                .rev()
+                .find(|&b| self.try_claim(b))
+            {
+                return Some(b);
+            }
+            let any_todo = (0..n)
+                .any(|b| self.state[b].load(std::sync::atomic::Ordering::Relaxed) == Self::TODO);
             if !any_todo {
                 return None;
             }
