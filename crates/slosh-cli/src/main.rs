@@ -150,35 +150,51 @@ struct TheoryArgs {
 
 /// Stops with a clear message when the binary was built for vector instructions (x86-64-v3,
 /// see `.cargo/config.toml`) that this CPU lacks, instead of dying on an illegal instruction
-/// in the middle of a run.
-fn check_cpu() -> Result<(), String> {
-    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
-    {
-        let missing: Vec<&str> = [
-            ("avx2", std::arch::is_x86_feature_detected!("avx2")),
-            ("fma", std::arch::is_x86_feature_detected!("fma")),
-            ("bmi2", std::arch::is_x86_feature_detected!("bmi2")),
-        ]
-        .iter()
-        .filter(|(_, present)| !present)
-        .map(|(name, _)| *name)
-        .collect();
-        if !missing.is_empty() {
-            return Err(format!(
-                "this slosh was built for x86-64-v3 CPUs, and this CPU lacks {}: rebuild it for \
-                 this machine with RUSTFLAGS=\"-C target-cpu=native\" cargo build --release",
-                missing.join(", ")
-            ));
-        }
+/// in the middle of a run. Kept out of line and free of allocation and formatting: code this
+/// crate compiles may itself use those instructions, so the failure path only tests bits,
+/// writes a fixed message through std (built for the baseline CPU) and exits.
+#[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+#[inline(never)]
+fn exit_unless_cpu_supports_build() {
+    use std::io::Write;
+    if x86_64_v3_supported() {
+        return;
     }
-    Ok(())
+    let _ = std::io::stderr().write_all(
+        b"error: this slosh was built for x86-64-v3 CPUs (AVX2, FMA, BMI2), which this CPU is \
+not; rebuild it for this machine with RUSTFLAGS=\"-C target-cpu=native\" cargo build --release\n",
+    );
+    std::process::exit(1);
+}
+
+#[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+fn exit_unless_cpu_supports_build() {}
+
+/// Whether the CPU and OS provide the x86-64-v3 instructions the build uses (AVX, AVX2, FMA,
+/// BMI2), read from CPUID itself: `is_x86_feature_detected!` answers "present" without
+/// asking the CPU when the build already enables the feature, which is the case to catch.
+#[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+#[inline(never)]
+fn x86_64_v3_supported() -> bool {
+    use std::arch::x86_64::{__cpuid, __cpuid_count, _xgetbv};
+    // CPUID is available on every x86-64 CPU.
+    #[allow(unused_unsafe)]
+    let (leaf1, leaf7) = unsafe { (__cpuid(1), __cpuid_count(7, 0)) };
+    let bit = |reg: u32, n: u32| reg & (1 << n) != 0;
+    // XGETBV only where CPUID.1:ECX.OSXSAVE says so; the OS must save the SSE and AVX
+    // registers (XCR0 bits 1 and 2).
+    let osxsave = bit(leaf1.ecx, 27);
+    #[allow(unused_unsafe)]
+    let avx_state = osxsave && unsafe { _xgetbv(0) } & 0b110 == 0b110;
+    avx_state
+        && bit(leaf1.ecx, 28) // AVX
+        && bit(leaf7.ebx, 5) // AVX2
+        && bit(leaf1.ecx, 12) // FMA
+        && bit(leaf7.ebx, 8) // BMI2
 }
 
 fn main() -> ExitCode {
-    if let Err(message) = check_cpu() {
-        eprintln!("error: {message}");
-        return ExitCode::FAILURE;
-    }
+    exit_unless_cpu_supports_build();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => cmd_run(args),

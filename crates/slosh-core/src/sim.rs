@@ -1436,7 +1436,7 @@ impl BlockStates {
     fn try_claim(&self, b: usize) -> bool {
         use std::sync::atomic::Ordering;
         self.state[b].load(Ordering::Relaxed) == Self::TODO
-            && (b % 2 == 0 || (self.is_done(b - 1) && self.is_done(b + 1)))
+            && (b.is_multiple_of(2) || (self.is_done(b - 1) && self.is_done(b + 1)))
             && self.state[b]
                 .compare_exchange(
                     Self::TODO,
