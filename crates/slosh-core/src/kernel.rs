@@ -248,6 +248,15 @@ mod tests {
                         r[i]
                     );
                 }
+                // W and the factor together from r², as the density and strain sweeps take them.
+                let r2: Vec<f64> = r.iter().map(|r| r * r).collect();
+                let mut w = vec![f64::NAN; r.len()];
+                k.values_and_gradient_factors(&r2, &mut w, &mut f);
+                for i in 0..r.len() {
+                    let (w_scalar, f_scalar) = k.value_and_gradient_factor(r2[i].sqrt());
+                    assert_eq!(f[i].to_bits(), f_scalar.to_bits(), "{kind:?} {dim}D");
+                    assert_eq!(w[i].to_bits(), w_scalar.to_bits(), "{kind:?} {dim}D");
+                }
             }
         }
     }
