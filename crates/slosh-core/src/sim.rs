@@ -2131,3 +2131,51 @@ fn permute_par<T: Copy + Send + Sync>(values: &mut Vec<T>, order: &[u32], scratc
         .for_each(|(s, &o)| *s = source[o as usize]);
     std::mem::swap(values, scratch);
 }
+
+#[cfg(test)]
+mod sweep_tests {
+    use super::colour_sweep;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    /// The schedule of `colour_sweep` on three threads: every block runs once, no two
+    /// neighbouring blocks overlap in time, and an odd block starts only after both its even
+    /// neighbours have ended; for the dependency schedule (9 and 40 blocks) and the
+    /// two-barrier fallback beyond `BlockStates::MAX_BLOCKS` (200 blocks).
+    #[test]
+    fn blocks_respect_their_neighbours() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        for n_blocks in [9usize, 40, 200] {
+            let bounds: Vec<u32> = (0..=n_blocks as u32).map(|b| 10 * b).collect();
+            let clock = AtomicUsize::new(0);
+            let runs: Vec<AtomicUsize> = (0..n_blocks).map(|_| AtomicUsize::new(0)).collect();
+            let start: Vec<AtomicUsize> = (0..n_blocks).map(|_| AtomicUsize::new(0)).collect();
+            let end: Vec<AtomicUsize> = (0..n_blocks).map(|_| AtomicUsize::new(0)).collect();
+            pool.install(|| {
+                colour_sweep(&bounds, |b, begin, stop| {
+                    assert_eq!((begin, stop), (10 * b, 10 * b + 10));
+                    start[b].store(clock.fetch_add(1, Ordering::SeqCst), Ordering::SeqCst);
+                    runs[b].fetch_add(1, Ordering::SeqCst);
+                    // Some work, so that threads overlap.
+                    let mut x = b as f64;
+                    for _ in 0..20_000 {
+                        x = std::hint::black_box(x.sin());
+                    }
+                    end[b].store(clock.fetch_add(1, Ordering::SeqCst), Ordering::SeqCst);
+                })
+            });
+            let get = |v: &Vec<AtomicUsize>, b: usize| v[b].load(Ordering::SeqCst);
+            for b in 0..n_blocks {
+                assert_eq!(get(&runs, b), 1, "{n_blocks} blocks: block {b} ran once");
+                if b % 2 == 1 {
+                    assert!(get(&start, b) > get(&end, b - 1), "{n_blocks}: block {b}");
+                    if b + 1 < n_blocks {
+                        assert!(get(&start, b) > get(&end, b + 1), "{n_blocks}: block {b}");
+                    }
+                }
+            }
+        }
+    }
+}
