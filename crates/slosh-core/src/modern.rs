@@ -1037,6 +1037,25 @@ impl<const D: usize> StrainSweep<'_, D> {
     }
 }
 
+/// One particle of the sorted strain sweep: its index, its neighbour list with fill and
+/// overflow flag, and its velocity-gradient sum.
+struct StrainOwner<'s, 'a, const D: usize> {
+    sweep: &'s StrainSweep<'a, D>,
+    i: usize,
+    list: &'s mut [u32],
+    fill: ListFill,
+    grad_v: Tensor<D>,
+}
+
+impl<const D: usize> ForwardPairBatch for StrainOwner<'_, '_, D> {
+    #[inline(always)]
+    fn batch(&mut self, batch_j: &[u32], batch_r2: &[f64]) {
+        self.sweep
+            .batch(self.i, batch_j, batch_r2, &mut self.grad_v);
+        self.fill.append(self.list, batch_j);
+    }
+}
+
 /// Strain rate V of Eq. 4–5 over the fluid neighbours (as [`strain_pass`]) on cell-sorted
 /// arrays, each pair once: (v_j − v_i) ⊗ ∇_i W_ij is the same tensor seen from j. Fills the
 /// half neighbour lists (forward fluid neighbours, then all wall neighbours) that the force
@@ -1080,47 +1099,29 @@ fn strain_pass_sorted<const D: usize>(
             // SAFETY: entries begin·capacity..end·capacity belong to this block, and
             // cursor + capacity ≤ (i + 1)·capacity.
             let list = unsafe { entries.slice(cursor, capacity) };
-            let (mut listed, mut overflow) = (0usize, false);
-            let mut grad_v = Tensor::<D>::zeros();
-            let mut batch_j = [0u32; BATCH];
-            let mut batch_r2 = [0.0f64; BATCH];
-            let mut batched = 0usize;
-            grid.for_each_forward_range(i, &xi, |j0, j1| {
-                for (j, xj) in (j0..j1).zip(&pos[j0..j1]) {
-                    let r2 = (xi - xj).norm_squared();
-                    batch_j[batched] = j as u32;
-                    batch_r2[batched] = r2;
-                    batched += (r2 < c.support_sq) as usize;
-                    if batched == BATCH {
-                        sweep.batch(i, &batch_j, &batch_r2, &mut grad_v);
-                        (listed, overflow) = append(list, listed, overflow, &batch_j);
-                        batched = 0;
-                    }
-                }
-            });
-            sweep.batch(i, &batch_j[..batched], &batch_r2[..batched], &mut grad_v);
-            (listed, overflow) = append(list, listed, overflow, &batch_j[..batched]);
+            let mut this = StrainOwner {
+                sweep: &sweep,
+                i,
+                list: &mut *list,
+                fill: ListFill::default(),
+                grad_v: Tensor::<D>::zeros(),
+            };
+            forward_pairs_batched(grid, pos, i, c.support_sq, &mut this);
+            let StrainOwner {
+                mut fill, grad_v, ..
+            } = this;
             grid.for_each_wall_candidate(&xi, |w| {
                 if (xi - wall_pos[w]).norm_squared() < c.support_sq {
-                    if listed < capacity {
-                        list[listed] = w as u32 | WALL_NEIGHBOUR;
-                        listed += 1;
-                    } else {
-                        overflow = true;
-                    }
+                    fill.push(list, w as u32 | WALL_NEIGHBOUR);
                 }
             });
             // SAFETY: slot i belongs to this block.
             unsafe {
                 *grad_acc.at(i) += grad_v;
-                *counts.at(i) = if overflow {
-                    LIST_OVERFLOW
-                } else {
-                    listed as u16
-                };
+                *counts.at(i) = fill.stored_count();
                 *starts.at(i) = cursor as u32;
             }
-            cursor += listed;
+            cursor += fill.listed;
         }
     });
     // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.

@@ -1093,8 +1093,7 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
                 |(i, ((((rho_out, ksum_out), strain_out), list), count_out))| {
                     let xi = pos[i];
                     let vi = vel[i];
-                    let mut listed = 0usize;
-                    let mut overflow = false;
+                    let mut fill = ListFill::default();
                     let mut rho_sum = 0.0;
                     let mut kernel_sum = 0.0;
                     // Velocity gradient G_ab = Σ (m/ρ_j)(v_j − v_i)_a ∂W/∂x_i,b (Eq. 5 terms).
@@ -1110,12 +1109,7 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
                             kernel_sum += volume * w;
                             let grad_w = xij * grad_factor;
                             grad_v += (vel[j] - vi) * (grad_w * volume).transpose();
-                            if listed < capacity {
-                                list[listed] = j as u32;
-                                listed += 1;
-                            } else {
-                                overflow = true;
-                            }
+                            fill.push(list, j as u32);
                         }
                     });
                     search.for_each_wall_candidate(&xi, |w_idx| {
@@ -1125,19 +1119,10 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
                             let w = kernel.value(r2.sqrt());
                             rho_sum += m * w;
                             kernel_sum += m * wall_inv_rho[w_idx] * w;
-                            if listed < capacity {
-                                list[listed] = w_idx as u32 | WALL_NEIGHBOUR;
-                                listed += 1;
-                            } else {
-                                overflow = true;
-                            }
+                            fill.push(list, w_idx as u32 | WALL_NEIGHBOUR);
                         }
                     });
-                    *count_out = if overflow {
-                        LIST_OVERFLOW
-                    } else {
-                        listed as u16
-                    };
+                    *count_out = fill.stored_count();
                     *rho_out = rho_sum;
                     *ksum_out = kernel_sum;
                     // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
@@ -1507,8 +1492,7 @@ struct DensitySums<const D: usize> {
     rho: f64,
     kernel_sum: f64,
     grad_v: Tensor<D>,
-    listed: usize,
-    overflow: bool,
+    fill: ListFill,
 }
 
 impl<const D: usize> DensitySweep<'_, D> {
@@ -1549,17 +1533,104 @@ impl<const D: usize> DensitySweep<'_, D> {
             }
         }
         (sums.rho, sums.kernel_sum, sums.grad_v) = (rho_sum, kernel_sum, grad_v);
-        (sums.listed, sums.overflow) = append(list, sums.listed, sums.overflow, batch_j);
+        sums.fill.append(list, batch_j);
     }
 }
 
-/// Appends `found` to a neighbour list filled up to `listed`, as far as it has room;
-/// returns the new fill and whether anything did not fit (or `overflow` already).
+/// One particle's consumer of its forward fluid pairs in the sorted sweeps, fed by
+/// [`forward_pairs_batched`].
+trait ForwardPairBatch {
+    /// A batch of at most [`BATCH`] pairs within the support: neighbour indices and squared
+    /// distances (m²).
+    fn batch(&mut self, batch_j: &[u32], batch_r2: &[f64]);
+}
+
+/// Hands the forward fluid neighbours of sorted particle `i` (those it finds in its forward
+/// half stencil) within the support (`support_sq`, m²) to `sink`, in batches of [`BATCH`] and
+/// a last, shorter one. The candidate loop has no unpredictable branch: every candidate is
+/// written into the batch and only those within the support advance its fill.
 #[inline(always)]
-fn append(list: &mut [u32], listed: usize, overflow: bool, found: &[u32]) -> (usize, bool) {
-    let room = found.len().min(list.len() - listed);
-    list[listed..listed + room].copy_from_slice(&found[..room]);
-    (listed + room, overflow || room < found.len())
+fn forward_pairs_batched<const D: usize, S: ForwardPairBatch>(
+    grid: &CellGrid<D>,
+    pos: &[Vector<D>],
+    i: usize,
+    support_sq: f64,
+    sink: &mut S,
+) {
+    let xi = pos[i];
+    let mut batch_j = [0u32; BATCH];
+    let mut batch_r2 = [0.0f64; BATCH];
+    let mut batched = 0usize;
+    grid.for_each_forward_range(i, &xi, |j0, j1| {
+        for (j, xj) in (j0..j1).zip(&pos[j0..j1]) {
+            let r2 = (xi - xj).norm_squared();
+            batch_j[batched] = j as u32;
+            batch_r2[batched] = r2;
+            batched += (r2 < support_sq) as usize;
+            if batched == BATCH {
+                sink.batch(&batch_j, &batch_r2);
+                batched = 0;
+            }
+        }
+    });
+    sink.batch(&batch_j[..batched], &batch_r2[..batched]);
+}
+
+/// One particle of the sorted density sweep: its data, its neighbour list and its running
+/// sums.
+struct DensityOwner<'s, 'a, const D: usize> {
+    sweep: &'s DensitySweep<'a, D>,
+    /// (x_i, v_i, m/ρ_i).
+    owner: (Vector<D>, Vector<D>, f64),
+    list: &'s mut [u32],
+    sums: DensitySums<D>,
+}
+
+impl<const D: usize> ForwardPairBatch for DensityOwner<'_, '_, D> {
+    #[inline(always)]
+    fn batch(&mut self, batch_j: &[u32], batch_r2: &[f64]) {
+        self.sweep
+            .batch(self.owner, batch_j, batch_r2, self.list, &mut self.sums);
+    }
+}
+
+/// How far a neighbour list is filled, and whether an entry did not fit.
+#[derive(Clone, Copy, Default)]
+struct ListFill {
+    listed: usize,
+    overflow: bool,
+}
+
+impl ListFill {
+    /// Appends `entry` if `list` has room.
+    #[inline(always)]
+    fn push(&mut self, list: &mut [u32], entry: u32) {
+        if self.listed < list.len() {
+            list[self.listed] = entry;
+            self.listed += 1;
+        } else {
+            self.overflow = true;
+        }
+    }
+
+    /// Appends `found` as far as `list` has room.
+    #[inline(always)]
+    fn append(&mut self, list: &mut [u32], found: &[u32]) {
+        let room = found.len().min(list.len() - self.listed);
+        list[self.listed..self.listed + room].copy_from_slice(&found[..room]);
+        self.listed += room;
+        self.overflow |= room < found.len();
+    }
+
+    /// The count stored for the list: its fill, or [`LIST_OVERFLOW`].
+    #[inline(always)]
+    fn stored_count(self) -> u16 {
+        if self.overflow {
+            LIST_OVERFLOW
+        } else {
+            self.listed as u16
+        }
+    }
 }
 
 /// Density pass (Eq. 19, 20, 18, 5) on cell-sorted fluid arrays: each fluid pair is
@@ -1630,43 +1701,25 @@ fn density_pass_sorted<const D: usize>(
                 let rho_sum = m * w0;
                 let kernel_sum = volume_i * w0;
                 let grad_v = Tensor::<D>::zeros();
-                let mut sums = DensitySums {
+                let sums = DensitySums {
                     rho: rho_sum,
                     kernel_sum,
                     grad_v,
-                    listed: 0,
-                    overflow: false,
+                    fill: ListFill::default(),
                 };
-                let owner = (xi, vi, volume_i);
-                let mut batch_j = [0u32; BATCH];
-                let mut batch_r2 = [0.0f64; BATCH];
-                let mut batched = 0usize;
-                grid.for_each_forward_range(i, &xi, |j0, j1| {
-                    for (j, xj) in (j0..j1).zip(&pos[j0..j1]) {
-                        let r2 = (xi - xj).norm_squared();
-                        batch_j[batched] = j as u32;
-                        batch_r2[batched] = r2;
-                        batched += (r2 < c.support_sq) as usize;
-                        if batched == BATCH {
-                            sweep.batch(owner, &batch_j, &batch_r2, list, &mut sums);
-                            batched = 0;
-                        }
-                    }
-                });
-                sweep.batch(
-                    owner,
-                    &batch_j[..batched],
-                    &batch_r2[..batched],
-                    list,
-                    &mut sums,
-                );
+                let mut this = DensityOwner {
+                    sweep: &sweep,
+                    owner: (xi, vi, volume_i),
+                    list: &mut *list,
+                    sums,
+                };
+                forward_pairs_batched(grid, pos, i, c.support_sq, &mut this);
                 let DensitySums {
                     rho: mut rho_sum,
                     mut kernel_sum,
                     grad_v,
-                    mut listed,
-                    mut overflow,
-                } = sums;
+                    mut fill,
+                } = this.sums;
                 grid.for_each_wall_candidate(&xi, |w_idx| {
                     let xiw = xi - wall_pos[w_idx];
                     let r2 = xiw.norm_squared();
@@ -1687,27 +1740,18 @@ fn density_pass_sorted<const D: usize>(
                                 *wall_near.at(k) = i as u32;
                             }
                         }
-                        if listed < capacity {
-                            list[listed] = w_idx as u32 | WALL_NEIGHBOUR;
-                            listed += 1;
-                        } else {
-                            overflow = true;
-                        }
+                        fill.push(list, w_idx as u32 | WALL_NEIGHBOUR);
                     }
                 });
                 // SAFETY: slot i belongs to this block.
                 unsafe {
-                    *counts.at(i) = if overflow {
-                        LIST_OVERFLOW
-                    } else {
-                        listed as u16
-                    };
+                    *counts.at(i) = fill.stored_count();
                     *starts.at(i) = cursor as u32;
                     *rho_acc.at(i) += rho_sum;
                     *ksum_acc.at(i) += kernel_sum;
                     *grad_acc.at(i) += grad_v;
                 }
-                cursor += listed;
+                cursor += fill.listed;
             }
         });
     }
