@@ -188,7 +188,7 @@ impl<const D: usize> Simulation<D> {
 
         let mut dt = 0.0;
         if k.symplectic {
-            dt = self.modern_time_step();
+            dt = self.time_step();
             self.symplectic_predictor(dt);
         }
         let t1 = std::time::Instant::now();
@@ -223,7 +223,7 @@ impl<const D: usize> Simulation<D> {
             self.apply_shifting(dt);
             self.check_particles(dt)?;
         } else {
-            dt = self.modern_time_step();
+            dt = self.time_step();
             self.integrate(dt, self.dt_previous)?;
             if k.continuity {
                 self.continuity_euler(dt);
@@ -236,41 +236,6 @@ impl<const D: usize> Simulation<D> {
         self.step += 1;
         self.phase_times.integration += t4.elapsed().as_secs_f64();
         Ok(())
-    }
-
-    /// Acoustic and force CFL bounds (SPEC §4 item 2) from the current velocities and the
-    /// last accelerations, or the fixed dt; updates the statistics.
-    fn modern_time_step(&mut self) -> f64 {
-        let (max_speed, max_accel) = self.max_speed_and_acceleration();
-        let h = self.constants.kernel.h;
-        let c = self.params.cfl_number;
-        let acoustic = c * h / (self.sound_speed + max_speed);
-        let force = if max_accel > 0.0 {
-            c * (h / max_accel).sqrt()
-        } else {
-            f64::INFINITY
-        };
-        // Viscous bound dt ≤ C h² ρ0/μ of the Newtonian term (Morris et al. 1997, with C the
-        // Courant number in place of their 0.125): never active for water at this scale.
-        let viscous = if self.params.dynamic_viscosity > 0.0 {
-            c * h * h * self.params.rest_density / self.params.dynamic_viscosity
-        } else {
-            f64::INFINITY
-        };
-        let bound = acoustic.min(force).min(viscous);
-        self.stats.dt_bound_min = self.stats.dt_bound_min.min(bound);
-        let dt = match self.params.fixed_dt {
-            Some(dt) => {
-                if dt > bound {
-                    self.stats.steps_above_bound += 1;
-                }
-                dt
-            }
-            None => bound,
-        };
-        self.stats.dt_min = self.stats.dt_min.min(dt);
-        self.stats.dt_max = self.stats.dt_max.max(dt);
-        dt
     }
 
     /// Symplectic predictor: x^{n+½} = x^n + dt/2 v^n; the mid-step velocity estimate
