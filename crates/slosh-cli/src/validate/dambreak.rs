@@ -65,11 +65,13 @@ const IMPACT_TOL: f64 = 0.10;
 const MODERN_DAMBREAK_GAP: &str = "issue 7: the modern front runs 9–12 % ahead of all four \
     data sets (as the paper scheme's). The lead builds up between T ≈ 0.4 and 1 and then stays: a \
     constant delay of ΔT ≈ 0.2 aligns it within 1–2 % with Martin & Moyce and DualSPHysics' \
-    Koshizuka & Oka (the gate or diaphragm removal is not modelled). It is not the solver's front \
-    speed: in the pressure case below the same scheme meets Lobovsky's and Buchner's impact times \
-    within 0.0 and 0.5 %. A 4× and 16× stiffer EOS (c0 ×2, ×4) trims the lead by only 0.6 and \
-    1.5 points; at dx/2 it grows to 11–15 %; no-slip walls slow it to 5–9 % ahead, through the \
-    artificial viscosity at the floor. After the impact the wall pressure's vertical \
+    Koshizuka & Oka (the gate or diaphragm removal is not modelled). Refining converges to a \
+    larger lead, not a smaller one (Martin & Moyce 1.125 in: 10.7, 13.1, 14.1 % at a/dx = 20, \
+    40, 80). It is not the solver's front speed: in the pressure case below the same scheme \
+    meets Lobovsky's impact time within 0.0 % (dx = 0.01 m) and −1.5 % (dx = 0.005 m), and \
+    Buchner's within 0.5 %. A 4× and 16× stiffer EOS (c0 ×2, ×4) trims the lead by only 0.6 and \
+    1.5 points; no-slip walls slow it to 5–9 % ahead, through the artificial viscosity at the \
+    floor. After the impact the wall pressure's vertical \
     gradient is too steep (T = 3–6: P1 +51 %, P3 +27 %, P4 −24 %, three-sensor mean +21 %; the \
     same at dx = 0.005 m: +20 %), and the corner sensor's first peak reads 2× high";
 /// The modern scheme's first-peak tolerance (issue 7).
