@@ -230,11 +230,7 @@ impl<const D: usize> Simulation<D> {
             }
             self.apply_shifting(dt);
         }
-        self.dt_previous = dt;
-        self.dt_last = dt;
-        self.time += dt;
-        self.step += 1;
-        self.phase_times.integration += t4.elapsed().as_secs_f64();
+        self.finish_step(dt, t4);
         Ok(())
     }
 

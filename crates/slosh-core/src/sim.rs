@@ -567,13 +567,18 @@ impl<const D: usize> Simulation<D> {
         let dt = self.time_step();
 
         self.integrate(dt, self.dt_previous)?;
+        self.finish_step(dt, t4);
+        Ok(())
+    }
+
+    /// Ends a step of `dt` (s), both schemes: the time, the step count, the step lengths the
+    /// next step reads, and the integration phase's time since `integration_start`.
+    fn finish_step(&mut self, dt: f64, integration_start: std::time::Instant) {
         self.dt_previous = dt;
         self.dt_last = dt;
         self.time += dt;
         self.step += 1;
-        self.phase_times.integration += t4.elapsed().as_secs_f64();
-
-        Ok(())
+        self.phase_times.integration += integration_start.elapsed().as_secs_f64();
     }
 
     /// The step (s): the acoustic, force and viscous bounds (SPEC §4 item 2) from the current
