@@ -610,11 +610,12 @@ fn wall_pass<const D: usize, S: NeighbourSearch<D>>(
 struct ModernPairTerms<'a, const D: usize> {
     /// The paper sweep's constants and fluid and wall arrays (pressure and viscous terms).
     base: ForceSweep<'a, D>,
-    /// Walls in the artificial viscosity and the viscous term: dynamic walls as the paper
-    /// (wall at rest), Adami free-slip none, Adami no-slip the mirrored velocity.
+    /// Walls in the artificial viscosity and the paper's viscous term: dynamic walls only
+    /// (wall at rest, as the paper). Adami walls take neither: free slip has no wall stress,
+    /// no-slip the physical viscous stress of the mirrored velocity (`no_slip_viscous`).
     wall_av: bool,
     wall_viscous: bool,
-    mirrored: bool,
+    no_slip_viscous: bool,
     continuity: bool,
     /// 0: none, 1: Molteni–Colagrossi, 2: Fourtakas.
     diffusion: u8,
@@ -671,9 +672,9 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
         let k = &st.k;
         let base = ForceSweep::new(c, fluid, walls);
         ModernPairTerms {
-            wall_av: base.av_on && (!k.adami || k.no_slip),
-            wall_viscous: base.viscous && (!k.adami || k.no_slip),
-            mirrored: k.adami && k.no_slip,
+            wall_av: base.av_on && !k.adami,
+            wall_viscous: base.viscous && !k.adami,
+            no_slip_viscous: base.viscous && k.adami && k.no_slip,
             continuity: k.continuity,
             diffusion: k.diffusion,
             diff_coeff: -2.0 * k.diffusion_coeff,
@@ -793,18 +794,20 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
         let inv_rho_iw = o.inv_rho * self.base.wall_inv_rho[w];
         let mut scalar = -(o.p + self.base.wall_p[w]) * inv_rho_iw;
         if self.wall_av {
-            let v_w = if self.mirrored {
-                self.wall_vel[w]
-            } else {
-                Vector::<D>::zeros()
-            };
             scalar -= self
                 .base
-                .artificial_viscosity(o.v - v_w, xiw, inv_s, inv_rho_mean);
+                .artificial_viscosity(o.v, xiw, inv_s, inv_rho_mean);
         }
         let mut acc = grad_w * (m * scalar);
         if self.wall_viscous {
             acc += o.strain * grad_w * (m * c.viscosity * inv_rho_iw);
+        }
+        if self.no_slip_viscous {
+            // No-slip Adami wall: the laminar viscous force of Morris et al. (1997),
+            // m (μ_i + μ_w) (x_iw·∇_i W) v_iw / (ρ_i ρ_w (r² + 0.01 h²)), against the mirrored
+            // wall velocity (Adami et al. 2012 Eq. 22; x_iw·∇_i W = r² F).
+            let v_iw = o.v - self.wall_vel[w];
+            acc += v_iw * (m * 2.0 * c.viscosity * inv_rho_iw * r2 * f * inv_s);
         }
         let drho = if self.continuity {
             m * o.v.dot(&grad_w)

@@ -134,9 +134,11 @@ pub struct SphParams {
     pub density_diffusion: DensityDiffusion,
     /// Wall boundary: dynamic particles (paper, default) or Adami's generalised wall.
     pub boundary: BoundaryMethod,
-    /// With Adami walls: no-slip walls (the artificial viscosity sees the wall velocity
-    /// mirrored from the Shepard-interpolated fluid velocity, v_w = −ṽ_w, and the paper's
-    /// viscous wall term applies). Default false: free slip, no viscous stress from walls.
+    /// With Adami walls: no-slip walls. The fluid feels the laminar viscous stress (Morris et
+    /// al. 1997, with `dynamic_viscosity`) of the wall velocity mirrored from the
+    /// Shepard-interpolated fluid velocity, v_w = −ṽ_w (Adami et al. 2012 Eq. 22); the
+    /// artificial viscosity, a numerical damping, does not act on walls. Default false: free
+    /// slip, no stress from walls.
     pub wall_no_slip: bool,
     /// Time integrator: leap-frog (paper, default) or symplectic position Verlet.
     pub integrator: Integrator,

@@ -326,6 +326,13 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             ),
         ),
         (
+            "modern scheme: viscous gravity current",
+            one(
+                "Modern scheme: viscous gravity current (no-slip floor)",
+                dambreak::viscous_current,
+            ),
+        ),
+        (
             "resolution study",
             one("Resolution study", resolution::study),
         ),
