@@ -679,8 +679,8 @@ const VISCOUS_COLUMN: f64 = 0.1;
 /// Kinematic viscosity (m²/s): the current's Reynolds number u h/ν = a²/(5 t ν) is below 0.1
 /// once its front has passed 3a, as the lubrication theory needs.
 const VISCOUS_NU: f64 = 0.015;
-/// Sound speed (m/s): 10× the largest speed of the collapse (≈ 0.6 m/s at this ν), so the
-/// density varies by ≈ 1 % and the time step stays affordable.
+/// Sound speed (m/s): 11× the largest speed of the collapse on the no-slip floor (0.53 m/s,
+/// measured at a/dx = 20), so the density varies by ≈ 1 % and the time step stays affordable.
 const VISCOUS_SOUND_SPEED: f64 = 6.0;
 /// Huppert's (1982) constant of a two-dimensional current of fixed volume A (per unit width)
 /// spreading from a wall: x_N = η_N (g A³ t / (3ν))^{1/5}. The similarity profile is
