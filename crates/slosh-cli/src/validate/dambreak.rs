@@ -9,14 +9,13 @@
 
 use super::run::{interpolate, Context, Scheme, GRAVITY, RHO};
 use super::{
-    failed_run, fmt_num, info_row, open_if_failed, plot_path, relative_check, stayed_inside, Check,
-    GroupResult, PlotRef, Verdict,
+    fmt_num, info_row, open_if_failed, relative_check, stayed_inside, Check, GroupResult, Verdict,
 };
 use anyhow::{anyhow, Result};
 use nalgebra::Vector2;
 use slosh_core::{Simulation, SphParams, PART_WALL};
 use slosh_geometry::RectTank2;
-use slosh_io::{line_plot, PlotSpec, Series};
+use slosh_io::{PlotSpec, Series};
 
 const MM_SMALL: &str = include_str!("../../../../data/dambreak_MartinMoyce1952_n2_2_a1p125in.csv");
 const MM_LARGE: &str = include_str!("../../../../data/dambreak_MartinMoyce1952_n2_2_a2p25in.csv");
@@ -207,14 +206,7 @@ pub fn front_modern(ctx: &Context) -> GroupResult {
 }
 
 fn front_for(ctx: &Context, scheme: &Scheme, group: &str, tol: f64, why: &str) -> GroupResult {
-    match front_inner(ctx, scheme, group, tol, why) {
-        Ok(g) => g,
-        Err(e) => {
-            let mut g = GroupResult::default();
-            g.checks.push(failed_run(group, "run", &format!("{e:#}")));
-            g
-        }
-    }
+    GroupResult::or_failed_run(group, front_inner(ctx, scheme, group, tol, why))
 }
 
 fn front_inner(
@@ -352,19 +344,17 @@ fn front_inner(
     for (label, xs, ys) in &plot_data {
         series.push(Series::points(label.clone(), xs, ys));
     }
-    let _ = line_plot(
-        plot_path(&ctx.out, &stem),
+    g.add_line_plot(
+        &ctx.out,
+        &stem,
         &PlotSpec::new(
             "Dam break: surge front (column a wide, 2a high)",
             "T = t √(2g/a) (-)",
             "front position Z/a (-)",
         ),
         &series,
+        "dam-break front against Martin & Moyce and Koshizuka & Oka",
     );
-    g.plots.push(PlotRef {
-        file: format!("{stem}.png"),
-        caption: "dam-break front against Martin & Moyce and Koshizuka & Oka".into(),
-    });
     g.notes.push(format!(
         "Column a = {a} m wide, 2a high, in an open tank 5a wide; dx = {FRONT_DX} m (a/dx = 20). \
          Front on the line y = dx/2: where the fluid kernel sum falls to half its value inside \
@@ -397,14 +387,7 @@ fn judged(scheme: &Scheme, check: Check) -> Check {
 }
 
 fn wall_pressure_for(ctx: &Context, scheme: &Scheme, group: &str) -> GroupResult {
-    match wall_pressure_inner(ctx, scheme, group) {
-        Ok(g) => g,
-        Err(e) => {
-            let mut g = GroupResult::default();
-            g.checks.push(failed_run(group, "run", &format!("{e:#}")));
-            g
-        }
-    }
+    GroupResult::or_failed_run(group, wall_pressure_inner(ctx, scheme, group))
 }
 
 fn wall_pressure_inner(ctx: &Context, scheme: &Scheme, group: &str) -> Result<GroupResult> {
@@ -651,19 +634,17 @@ fn wall_pressure_inner(ctx: &Context, scheme: &Scheme, group: &str) -> Result<Gr
     for (label, xs, ys) in &data_sets {
         series.push(Series::points(format!("experiment: {label}"), xs, ys));
     }
-    let _ = line_plot(
-        plot_path(&ctx.out, stem),
+    g.add_line_plot(
+        &ctx.out,
+        stem,
         &PlotSpec::new(
             "Dam break: pressure on the downstream wall (H = 0.3 m, column 2H, tank 5.366H)",
             "T = t √(g/H) (-)",
             "p / (ρ g H) (-)",
         ),
         &series,
+        "downstream-wall pressure against Lobovsky P1, P3, P4 and Buchner",
     );
-    g.plots.push(PlotRef {
-        file: format!("{stem}.png"),
-        caption: "downstream-wall pressure against Lobovsky P1, P3, P4 and Buchner".into(),
-    });
     g.notes.push(format!(
         "Column {P_COLUMN} m wide, H = {h} m, open tank {P_TANK_WIDTH} m wide (the geometry of \
          both experiments), dx = {P_DX} m (H/dx = 30). Wall pressure from the load points of \
@@ -697,14 +678,7 @@ const VISCOUS_TOL: f64 = 0.10;
 /// solution; the same liquid on a free-slip floor is reported beside it.
 pub fn viscous_current(ctx: &Context) -> GroupResult {
     let group = "Modern scheme: viscous gravity current (no-slip floor)";
-    match viscous_current_inner(ctx, group) {
-        Ok(g) => g,
-        Err(e) => {
-            let mut g = GroupResult::default();
-            g.checks.push(failed_run(group, "run", &format!("{e:#}")));
-            g
-        }
-    }
+    GroupResult::or_failed_run(group, viscous_current_inner(ctx, group))
 }
 
 fn viscous_current_inner(ctx: &Context, group: &str) -> Result<GroupResult> {
@@ -817,19 +791,17 @@ fn viscous_current_inner(ctx: &Context, group: &str) -> Result<GroupResult> {
         &x_curve,
     ));
     let stem = "viscous_gravity_current";
-    let _ = line_plot(
-        plot_path(&ctx.out, stem),
+    g.add_line_plot(
+        &ctx.out,
+        stem,
         &PlotSpec::new(
             "Viscous gravity current: column a × a, ν = 0.015 m²/s",
             "t (s)",
             "front position x_N/a (-)",
         ),
         &series,
+        "viscous gravity current on a no-slip floor against Huppert (1982)",
     );
-    g.plots.push(PlotRef {
-        file: format!("{stem}.png"),
-        caption: "viscous gravity current on a no-slip floor against Huppert (1982)".into(),
-    });
     g.notes.push(format!(
         "Column a = {a} m wide and high, ν = {VISCOUS_NU} m²/s, c0 = {VISCOUS_SOUND_SPEED} m/s, \
          open tank 6a wide, dx = {dx} m (a/dx = {:.0}), modern scheme with no-slip Adami walls \

@@ -14,6 +14,7 @@ mod sloshing;
 mod three_d;
 
 use anyhow::{Context, Result};
+use slosh_io::{line_plot, PlotSpec, Series};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -239,6 +240,34 @@ pub struct GroupResult {
     pub notes: Vec<String>,
     /// Simulated particle-steps, for the timing line.
     pub particle_steps: f64,
+}
+
+impl GroupResult {
+    /// Draws the line plot `stem`.png into `out` and lists it in the report with `caption`.
+    /// A plot that cannot be drawn is still listed; the checks do not depend on it.
+    pub(crate) fn add_line_plot(
+        &mut self,
+        out: &Path,
+        stem: &str,
+        spec: &PlotSpec,
+        series: &[Series],
+        caption: impl Into<String>,
+    ) {
+        let _ = line_plot(plot_path(out, stem), spec, series);
+        self.plots.push(PlotRef {
+            file: format!("{stem}.png"),
+            caption: caption.into(),
+        });
+    }
+
+    /// The group a stage's `run` returned, or, when it stopped with an error, a group whose
+    /// one failed row `run` says why.
+    pub(crate) fn or_failed_run(group: &str, run: Result<GroupResult>) -> GroupResult {
+        run.unwrap_or_else(|e| GroupResult {
+            checks: vec![failed_run(group, "run", &format!("{e:#}"))],
+            ..GroupResult::default()
+        })
+    }
 }
 
 /// Everything the suite produced.

@@ -9,13 +9,13 @@ use super::run::{
 use super::sloshing::running_mean;
 use super::three_d::free_run;
 use super::{
-    failed_run, fmt_num, info_row, open_if_failed, plot_path, ratio_band_check, relative_check,
-    stayed_inside, Check, GroupResult, PlotRef, Verdict,
+    failed_run, fmt_num, info_row, open_if_failed, ratio_band_check, relative_check, stayed_inside,
+    Check, GroupResult, Verdict,
 };
 use nalgebra::Vector2;
 use slosh_core::{Simulation, SphParams, PART_ROOF};
 use slosh_geometry::{InitialSurface, RectTank2};
-use slosh_io::{line_plot, PlotSpec, Series};
+use slosh_io::{PlotSpec, Series};
 use slosh_theory::linear::RectangularTank;
 use slosh_theory::modal::sine_response;
 use slosh_theory::natural::rectangular_period;
@@ -324,8 +324,9 @@ fn forced(ctx: &Context) -> GroupResult {
         }
     }
     let stem = "modern_resonant_eta_left";
-    let _ = line_plot(
-        plot_path(&ctx.out, stem),
+    g.add_line_plot(
+        &ctx.out,
+        stem,
         &PlotSpec::new(
             "Resonant paper case: elevation at the left wall, both schemes",
             "time since excitation start t (s)",
@@ -336,11 +337,8 @@ fn forced(ctx: &Context) -> GroupResult {
             Series::line("paper scheme", &paper.t, &paper.eta_left),
             Series::dashed("linear potential theory", &modern.t, &lin_m),
         ],
+        "η at the left wall, modern and paper schemes against linear theory",
     );
-    g.plots.push(PlotRef {
-        file: format!("{stem}.png"),
-        caption: "η at the left wall, modern and paper schemes against linear theory".into(),
-    });
     g.notes.push(format!(
         "Paper §3.1 tank, dx = {DX} m, A = {AMPLITUDE} m, ω = {OMEGA} rad/s after {SETTLE} s of \
          settling; the hydrostatic snapshot is taken at the end of settling."
@@ -610,8 +608,9 @@ fn roof_impact(ctx: &Context) -> GroupResult {
     let (mt, mraw, mwin) = tail(&modern);
     let shifted_tail = shifted.as_ref().ok().map(tail);
     let stem = "modern_roof_pressure";
-    let _ = line_plot(
-        plot_path(&ctx.out, stem),
+    g.add_line_plot(
+        &ctx.out,
+        stem,
         &PlotSpec::new(
             "Paper §3.2 (tank 0.6 m): largest roof pressure, both schemes",
             "time since excitation start t (s)",
@@ -628,11 +627,8 @@ fn roof_impact(ctx: &Context) -> GroupResult {
             Series::line("modern scheme + particle shifting, instantaneous", st, sraw)
         }))
         .collect::<Vec<_>>(),
+        "largest roof pressure in the §3.2 case, paper and modern schemes",
     );
-    g.plots.push(PlotRef {
-        file: format!("{stem}.png"),
-        caption: "largest roof pressure in the §3.2 case, paper and modern schemes".into(),
-    });
     g.notes.push(
         "Paper §3.2: 1.0 m wide tank, roof at 0.6 m, 0.5 m of water, A = 0.0279 m, ω = 5.311 \
          rad/s after 2 s settling, dx = 0.02 m; each scheme with its own wall-pressure method \

@@ -8,8 +8,8 @@
 
 use super::run::{max_in_window, rect_sim, Context, Runner, SineExcitation};
 use super::sloshing::free_period;
-use super::{failed_run, fmt_num, info_row, plot_path, ratio_band_check, GroupResult, PlotRef};
-use slosh_io::{line_plot, PlotSpec, Series};
+use super::{failed_run, fmt_num, info_row, ratio_band_check, GroupResult};
+use slosh_io::{PlotSpec, Series};
 use slosh_theory::linear::RectangularTank;
 use slosh_theory::modal::{sine_response, ModalTank};
 
@@ -137,19 +137,17 @@ pub fn study(ctx: &Context) -> GroupResult {
     if let Some((xs, ys)) = &theory_curve {
         series.push(Series::dashed("linear potential theory", xs, ys));
     }
-    let _ = line_plot(
-        plot_path(&ctx.out, stem),
+    g.add_line_plot(
+        &ctx.out,
+        stem,
         &PlotSpec::new(
             "Resolution study: resonant growth, tank 0.5 × 0.24 m",
             "time since excitation start t (s)",
             "η at left wall (m)",
         ),
         &series,
+        "resonant growth at the left wall for each dx, with linear theory",
     );
-    g.plots.push(PlotRef {
-        file: format!("{stem}.png"),
-        caption: "resonant growth at the left wall for each dx, with linear theory".into(),
-    });
     g.notes.push(format!(
         "Tank {WIDTH} m wide, {DEPTH} m of water (half the paper's size), open, paper scheme. \
          Period: initial tilt, as the free-sloshing group. Resonant growth: A = {AMPLITUDE:.5} m \

@@ -11,7 +11,7 @@ use super::{
     PlotRef,
 };
 use slosh_core::SphParams;
-use slosh_io::{line_plot, scatter_with_identity, PlotSpec, Series};
+use slosh_io::{scatter_with_identity, PlotSpec, Series};
 use slosh_theory::housner;
 use slosh_theory::linear::RectangularTank;
 use slosh_theory::modal::{sine_response, ModalTank};
@@ -246,8 +246,9 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
         mask.iter().map(|&k| h.eta_left[k]).collect(),
         mask.iter().map(|&k| theory_eta[k]).collect(),
     );
-    let _ = line_plot(
-        plot_path(out, stem),
+    g_res.add_line_plot(
+        out,
+        stem,
         &PlotSpec::new(
             "Resonant sloshing, paper case: elevation at the left wall (paper Fig. 3)",
             "time since excitation start t (s)",
@@ -257,12 +258,8 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
             Series::line("SPH (paper scheme, dx = 0.02 m)", &xs, &ys_s),
             Series::dashed("linear potential theory (10 modes)", &xs, &ys_t),
         ],
+        "η at the left wall, SPH against linear theory, A = 0.0093 m, ω = 5.311 rad/s",
     );
-    g_res.plots.push(PlotRef {
-        file: format!("{stem}.png"),
-        caption: "η at the left wall, SPH against linear theory, A = 0.0093 m, ω = 5.311 rad/s"
-            .into(),
-    });
     g_res.notes.push(
         "Gauge one lattice spacing inside the left wall (as `slosh run`); theory evaluated at the \
          same x. Excitation a_g = A ω² sin ωt after 2 s settling (liquid feels −a_g)."
@@ -456,8 +453,9 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
         "reported: single peaks include the windowed pressure noise",
     ));
     let stem = "fig5_base_shear";
-    let _ = line_plot(
-        plot_path(out, stem),
+    g_bs.add_line_plot(
+        out,
+        stem,
         &PlotSpec::new(
             "Base shear, paper case (paper Fig. 5)",
             "time since excitation start t (s)",
@@ -469,11 +467,8 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
             Series::dashed("linear modal theory", &t_b, &v_lin),
             Series::dashed("Housner (SPH surface slope)", &t_b, &v_hou),
         ],
+        "base shear: SPH, linear modal theory, Housner",
     );
-    g_bs.plots.push(PlotRef {
-        file: format!("{stem}.png"),
-        caption: "base shear: SPH, linear modal theory, Housner".into(),
-    });
     g_bs.notes.push(format!(
         "V = x-force of the liquid on parts `bottom` + `wall` from the time-windowed load points \
          (`slosh_core::loads::base_shear_x`). Linear theory: impulsive + convective modal sum; \
@@ -585,8 +580,9 @@ fn off_resonance_inner(ctx: &Context) -> anyhow::Result<GroupResult> {
     });
     let _ = amp_ratio;
     let stem = "off_resonance_eta_left";
-    let _ = line_plot(
-        plot_path(&ctx.out, stem),
+    g.add_line_plot(
+        &ctx.out,
+        stem,
         &PlotSpec::new(
             "Off-resonance forcing Ω = 0.7 ω₁, A = 0.02 m: elevation at the left wall",
             "time since excitation start t (s)",
@@ -597,11 +593,8 @@ fn off_resonance_inner(ctx: &Context) -> anyhow::Result<GroupResult> {
             Series::dashed("linear potential theory", &ts, &lin),
             Series::dashed("theory, natural periods 5 % shorter", &ts, &lin_shift),
         ],
+        "off-resonance response against linear theory",
     );
-    g.plots.push(PlotRef {
-        file: format!("{stem}.png"),
-        caption: "off-resonance response against linear theory".into(),
-    });
     g.notes.push(format!(
         "Paper tank, dx = 0.02 m, A = {OFF_RES_AMPLITUDE} m, Ω = 0.7 ω₁ = {omega:.3} rad/s after \
          {OFF_RES_SETTLE} s settling. Tolerances are derived, not chosen: theory is re-evaluated \
@@ -682,19 +675,17 @@ pub fn free_sloshing(ctx: &Context) -> GroupResult {
         .iter()
         .map(|(label, xs, ys)| Series::line(label.clone(), xs, ys))
         .collect();
-    let _ = line_plot(
-        plot_path(&ctx.out, stem),
+    g.add_line_plot(
+        &ctx.out,
+        stem,
         &PlotSpec::new(
             "Free sloshing from an initial tilt, three tanks",
             "t / T₁ (theory) (-)",
             "first-mode amplitude β₁ / β₁(0) (-)",
         ),
         &series,
+        "normalised left-wall elevation of the three free-sloshing tanks",
     );
-    g.plots.push(PlotRef {
-        file: format!("{stem}.png"),
-        caption: "normalised left-wall elevation of the three free-sloshing tanks".into(),
-    });
     g
 }
 

@@ -175,19 +175,17 @@ fn cylinder_periods(ctx: &Context) -> GroupResult {
         .iter()
         .map(|(l, x, y)| Series::line(l.clone(), x, y))
         .collect();
-    let _ = line_plot(
-        plot_path(&ctx.out, stem),
+    g.add_line_plot(
+        &ctx.out,
+        stem,
         &PlotSpec::new(
             "Cylinder free sloshing (modern scheme), first-mode start",
             "t / T₁ (theory) (-)",
             "centre of mass x / initial (-)",
         ),
         &series,
+        "normalised centre-of-mass oscillation of the two cylinders",
     );
-    g.plots.push(PlotRef {
-        file: format!("{stem}.png"),
-        caption: "normalised centre-of-mass oscillation of the two cylinders".into(),
-    });
     g.notes.push(
         "Start: the first mode's surface −(x/r) J₁(ξ₁ r/R)/J₁(ξ₁) with 0.02 R at the wall, on \
          the lattice by error diffusion; theory for the depth the lattice holds (whole rows). \
@@ -200,14 +198,7 @@ fn cylinder_periods(ctx: &Context) -> GroupResult {
 /// Sine excitation off resonance: wall elevation and base shear against linear theory.
 fn cylinder_forced(ctx: &Context) -> GroupResult {
     let group = "3D forced";
-    match cylinder_forced_inner(ctx, group) {
-        Ok(g) => g,
-        Err(e) => {
-            let mut g = GroupResult::default();
-            g.checks.push(failed_run(group, "run", &format!("{e:#}")));
-            g
-        }
-    }
+    GroupResult::or_failed_run(group, cylinder_forced_inner(ctx, group))
 }
 
 fn cylinder_forced_inner(ctx: &Context, group: &str) -> Result<GroupResult> {
@@ -490,19 +481,17 @@ pub fn box_vs_2d(ctx: &Context) -> GroupResult {
             };
             let (a, b) = norm(&h2);
             let (c, d) = norm(&h3);
-            let _ = line_plot(
-                plot_path(&ctx.out, stem),
+            g.add_line_plot(
+                &ctx.out,
+                stem,
                 &PlotSpec::new(
                     "Free sloshing 1.0 × 0.5 m: 2D against a thin 3D box (modern scheme)",
                     "t / T₁ (theory) (-)",
                     "centre of mass x − L/2, normalised (-)",
                 ),
                 &[Series::line("2D", &a, &b), Series::dashed("3D box", &c, &d)],
+                "centre of mass of the 2D and 3D runs",
             );
-            g.plots.push(PlotRef {
-                file: format!("{stem}.png"),
-                caption: "centre of mass of the 2D and 3D runs".into(),
-            });
         }
         Err(e) => g.checks.push(failed_run(group, "run", &format!("{e:#}"))),
     }
