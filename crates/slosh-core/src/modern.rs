@@ -415,6 +415,15 @@ impl<const D: usize> Simulation<D> {
                 body_force,
             ));
         }
+        if k.adami && k.no_slip && c.viscosity > 0.0 {
+            with_search!(&self.search, s => wall_strain_pass(
+                s,
+                &c,
+                &mut self.fluid,
+                &self.walls,
+                &st.wall_velocity,
+            ));
+        }
     }
 
     fn modern_forces(&mut self, body_force: Vector<D>) {
@@ -478,6 +487,47 @@ fn strain_pass<const D: usize, S: NeighbourSearch<D>>(
                 v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
             }
             *strain_out = v_tensor;
+        });
+}
+
+/// The no-slip walls' share of the strain rate V (Eq. 4–5): the mirrored wall velocity
+/// (Adami et al. 2012 Eq. 22) in the velocity gradient of the fluid particles near a wall.
+/// V is linear in the gradient G, so the wall share is added to the fluid share as is.
+fn wall_strain_pass<const D: usize, S: NeighbourSearch<D>>(
+    search: &S,
+    c: &PassConstants,
+    fluid: &mut Fluid<D>,
+    walls: &Walls<D>,
+    wall_velocity: &[Vector<D>],
+) {
+    let kernel = c.kernel;
+    let m = c.mass;
+    let pos = &fluid.position;
+    let vel = &fluid.velocity;
+    fluid
+        .strain_rate
+        .par_iter_mut()
+        .enumerate()
+        .with_min_len(PAR_CHUNK)
+        .for_each(|(i, strain_out)| {
+            let xi = pos[i];
+            let vi = vel[i];
+            let mut grad_v = Tensor::<D>::zeros();
+            search.for_each_wall_candidate(&xi, |w| {
+                let xiw = xi - walls.position[w];
+                let r2 = xiw.norm_squared();
+                if r2 < c.support_sq {
+                    let grad_w = xiw * kernel.gradient_factor(r2.sqrt());
+                    grad_v += (wall_velocity[w] - vi)
+                        * (grad_w * (m * walls.inverse_density[w])).transpose();
+                }
+            });
+            let trace = grad_v.trace();
+            let mut v_tensor = grad_v + grad_v.transpose();
+            for k in 0..D {
+                v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
+            }
+            *strain_out += v_tensor;
         });
 }
 

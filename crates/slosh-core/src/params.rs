@@ -136,7 +136,8 @@ pub struct SphParams {
     pub boundary: BoundaryMethod,
     /// With Adami walls: no-slip walls. The fluid feels the laminar viscous stress (Morris et
     /// al. 1997, with `dynamic_viscosity`) of the wall velocity mirrored from the
-    /// Shepard-interpolated fluid velocity, v_w = −ṽ_w (Adami et al. 2012 Eq. 22); the
+    /// Shepard-interpolated fluid velocity, v_w = −ṽ_w (Adami et al. 2012 Eq. 22), and the
+    /// same wall velocity enters the strain rate V (Eq. 4–5) of the fluid near the wall; the
     /// artificial viscosity, a numerical damping, does not act on walls. Default false: free
     /// slip, no stress from walls.
     pub wall_no_slip: bool,

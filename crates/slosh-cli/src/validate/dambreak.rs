@@ -670,8 +670,8 @@ const VISCOUS_SOUND_SPEED: f64 = 6.0;
 const HUPPERT_ETA_N: f64 = 1.411;
 /// Tolerance on the mean front error: x_N is a fifth root of ν, so 10 % in x_N is a factor
 /// 1.6 in viscosity. The check tells a wall with the liquid's viscous friction from one
-/// without (which lets the current run to the far wall, +50 % and more); the measured lead of
-/// ≈ 5 % (the same at a/dx = 20 and 40) is a known gap, stated in the report.
+/// without (which lets the current run to the far wall, +50 % and more). Measured: +2.3 % at
+/// a/dx = 20, +2.5 % at a/dx = 40 (+5 % before the wall velocity entered the strain rate).
 const VISCOUS_TOL: f64 = 0.10;
 
 /// Front of a viscous current on a no-slip floor against Huppert's (1982) similarity
@@ -750,9 +750,8 @@ fn viscous_current_inner(ctx: &Context, group: &str) -> Result<GroupResult> {
                 tolerance: format!("≤ {:.0} %", 100.0 * VISCOUS_TOL),
                 reason: "10 %: x_N is a fifth root of ν (10 % in x_N is a factor 1.6 in \
                          viscosity), enough to tell a wall with the liquid's viscous friction \
-                         from one without (+50 % and more); the SPH front leads by ≈ 5 % at \
-                         a/dx = 20 and 40 alike, an effective viscosity ≈ 20 % low near the \
-                         floor"
+                         from one without (+50 % and more); the SPH front leads by ≈ 2.5 % at \
+                         a/dx = 20 and 40 alike (ν_eff ≈ 0.9 ν)"
                     .into(),
                 verdict: if pass { Verdict::Pass } else { Verdict::Fail },
             });
