@@ -379,6 +379,13 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             ),
         ));
         all.push((
+            "modern scheme: sloshing damping (free decay)",
+            one(
+                "Modern scheme: sloshing damping (free decay)",
+                modern::damping,
+            ),
+        ));
+        all.push((
             "3D: cylinder period, forced cylinder",
             Box::new(three_d::cylinder_groups),
         ));

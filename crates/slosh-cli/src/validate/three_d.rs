@@ -84,6 +84,63 @@ impl ComHistory {
     }
 }
 
+impl ComHistory {
+    /// The extreme of each half cycle about `centre` (m, the centre of mass at rest): times
+    /// (s) and |x − centre| (m), each refined by a parabola through the three samples about
+    /// the largest. The half cycles cut by the start and the end of the record are left out.
+    pub(crate) fn half_cycle_peaks(&self, centre: f64) -> (Vec<f64>, Vec<f64>) {
+        let y: Vec<f64> = self.x.iter().map(|x| x - centre).collect();
+        let (mut ts, mut peaks) = (Vec::new(), Vec::new());
+        // Sample index where the current half cycle began (None before the first crossing).
+        let mut start: Option<usize> = None;
+        for i in 1..y.len() {
+            if (y[i] > 0.0) == (y[i - 1] > 0.0) {
+                continue;
+            }
+            if let Some(s) = start {
+                let best = (s..i)
+                    .max_by(|&a, &b| y[a].abs().total_cmp(&y[b].abs()))
+                    .unwrap_or(s);
+                if best > 0 && best + 1 < y.len() {
+                    let (a, b, c) = (y[best - 1].abs(), y[best].abs(), y[best + 1].abs());
+                    let curvature = a - 2.0 * b + c;
+                    let shift = if curvature < 0.0 {
+                        (0.5 * (a - c) / curvature).clamp(-0.5, 0.5)
+                    } else {
+                        0.0
+                    };
+                    let dt = 0.5 * (self.t[best + 1] - self.t[best - 1]);
+                    ts.push(self.t[best] + shift * dt);
+                    peaks.push(b - 0.25 * (a - c) * shift);
+                }
+            }
+            start = Some(i);
+        }
+        (ts, peaks)
+    }
+
+    /// Amplitude decay rate γ (1/s) of the oscillation about `centre`: minus the least-squares
+    /// slope of ln(peak) against time over the half-cycle peaks that start at or after
+    /// `from` (s). NaN with fewer than three peaks.
+    pub(crate) fn decay_rate(&self, centre: f64, from: f64) -> f64 {
+        let (ts, peaks) = self.half_cycle_peaks(centre);
+        let (t, ln): (Vec<f64>, Vec<f64>) = ts
+            .iter()
+            .zip(&peaks)
+            .filter(|(t, p)| **t >= from && **p > 0.0)
+            .map(|(t, p)| (*t, p.ln()))
+            .unzip();
+        if t.len() < 3 {
+            return f64::NAN;
+        }
+        let n = t.len() as f64;
+        let (mt, my) = (t.iter().sum::<f64>() / n, ln.iter().sum::<f64>() / n);
+        let sxy: f64 = t.iter().zip(&ln).map(|(a, b)| (a - mt) * (b - my)).sum();
+        let sxx: f64 = t.iter().map(|a| (a - mt).powi(2)).sum();
+        -sxy / sxx
+    }
+}
+
 fn com_x<const D: usize>(sim: &Simulation<D>) -> f64 {
     let f = &sim.fluid().position;
     f.iter().map(|p| p[0]).sum::<f64>() / f.len() as f64
@@ -505,4 +562,30 @@ pub fn box_vs_2d(ctx: &Context) -> GroupResult {
         tilt / dx
     ));
     g
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ComHistory;
+
+    /// A damped cosine x = c + A e^{−γt} cos ωt has successive half-cycle peaks in the exact
+    /// ratio e^{−γπ/ω}, wherever the sampling puts them; sampled at T/100 the parabola through
+    /// three samples places each peak within ≈ 10⁻⁴ of the amplitude: γ within 0.5 %.
+    #[test]
+    fn decay_rate_recovers_a_damped_cosine() {
+        let (centre, amp, gamma, omega) = (0.5, 0.01, 0.12, 5.3);
+        let dt = 2.0 * std::f64::consts::PI / omega / 100.0;
+        let t: Vec<f64> = (0..1200).map(|i| i as f64 * dt).collect();
+        let x = t
+            .iter()
+            .map(|&t| centre + amp * (-gamma * t).exp() * (omega * t).cos())
+            .collect();
+        let h = ComHistory { t, x };
+        let measured = h.decay_rate(centre, 0.0);
+        assert!((measured / gamma - 1.0).abs() < 5e-3, "{measured}");
+        let (ts, peaks) = h.half_cycle_peaks(centre);
+        // 12 periods: 23 whole half cycles after the first crossing.
+        assert!(peaks.len() >= 22, "{}", peaks.len());
+        assert!(ts.windows(2).all(|w| w[1] > w[0]));
+    }
 }
