@@ -481,12 +481,7 @@ fn strain_pass<const D: usize, S: NeighbourSearch<D>>(
                 }
             });
             // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
-            let trace = grad_v.trace();
-            let mut v_tensor = grad_v + grad_v.transpose();
-            for k in 0..D {
-                v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
-            }
-            *strain_out = v_tensor;
+            *strain_out = strain_rate_of(&grad_v);
         });
 }
 
@@ -522,12 +517,7 @@ fn wall_strain_pass<const D: usize, S: NeighbourSearch<D>>(
                         * (grad_w * (m * walls.inverse_density[w])).transpose();
                 }
             });
-            let trace = grad_v.trace();
-            let mut v_tensor = grad_v + grad_v.transpose();
-            for k in 0..D {
-                v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
-            }
-            *strain_out += v_tensor;
+            *strain_out += strain_rate_of(&grad_v);
         });
 }
 
@@ -1143,14 +1133,7 @@ fn strain_pass_sorted<const D: usize>(
         .strain_rate
         .par_iter_mut()
         .with_min_len(PAR_CHUNK)
-        .for_each(|g| {
-            let trace = g.trace();
-            let mut v_tensor = *g + g.transpose();
-            for k in 0..D {
-                v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
-            }
-            *g = v_tensor;
-        });
+        .for_each(|g| *g = strain_rate_of(g));
 }
 
 /// The slots of the sorted modern force sweep that a fluid pair writes for its second

@@ -50,6 +50,17 @@ pub type Vector<const D: usize> = SVector<f64, D>;
 /// A D×D tensor (strain rate).
 pub type Tensor<const D: usize> = SMatrix<f64, D, D>;
 
+/// Strain rate V = G + Gᵀ − (2/3) tr(G) I of a velocity gradient G (Eq. 4–5), 1/s.
+#[inline(always)]
+pub(crate) fn strain_rate_of<const D: usize>(grad_v: &Tensor<D>) -> Tensor<D> {
+    let trace = grad_v.trace();
+    let mut v_tensor = grad_v + grad_v.transpose();
+    for k in 0..D {
+        v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
+    }
+    v_tensor
+}
+
 /// Chunk length for rayon loops: large enough to amortise scheduling.
 const PAR_CHUNK: usize = 256;
 
@@ -1145,12 +1156,7 @@ fn density_pass<const D: usize, S: NeighbourSearch<D>>(
                     *rho_out = rho_sum;
                     *ksum_out = kernel_sum;
                     // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
-                    let trace = grad_v.trace();
-                    let mut v_tensor = grad_v + grad_v.transpose();
-                    for k in 0..D {
-                        v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
-                    }
-                    *strain_out = v_tensor;
+                    *strain_out = strain_rate_of(&grad_v);
                 },
             );
     }
@@ -1246,12 +1252,7 @@ fn eos_pass<const D: usize>(
             *p = c.pressure(*rho);
             if strain_from_gradient {
                 // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
-                let trace = g.trace();
-                let mut v_tensor = *g + g.transpose();
-                for k in 0..D {
-                    v_tensor[(k, k)] -= 2.0 / 3.0 * trace;
-                }
-                *g = v_tensor;
+                *g = strain_rate_of(g);
             }
         });
     walls

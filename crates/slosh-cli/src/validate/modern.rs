@@ -4,7 +4,8 @@
 //! `dambreak.rs` beside the paper scheme's.
 
 use super::run::{
-    max_in_window, rect_sim_with, rms, Context, Runner, Scheme, SineExcitation, GRAVITY, RHO,
+    fitted_slope, max_in_window, rect_sim_with, rms, Context, Runner, Scheme, SineExcitation,
+    GRAVITY, RHO,
 };
 use super::sloshing::running_mean;
 use super::three_d::free_run;
@@ -389,6 +390,8 @@ fn forced_run(
                 .iter()
                 .map(|p| RHO * GRAVITY * (still - p.y))
                 .collect();
+            // dp/d(ρ0 g d) with an intercept: independent of where the zero of d (the still
+            // level) is put.
             let slope = fitted_slope(&reference, &f.pressure);
             let n = reference.len() as f64;
             let ss: f64 = reference
@@ -409,16 +412,6 @@ fn forced_run(
         particle_steps: runner.history.particle_steps,
         inside: stayed_inside(group, &runner.sim),
     })
-}
-
-/// Least-squares slope of y on x with an intercept: dp/d(ρ0 g d), independent of where the
-/// zero of d (the still level) is put.
-fn fitted_slope(xs: &[f64], ys: &[f64]) -> f64 {
-    let n = xs.len() as f64;
-    let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
-    let sxy: f64 = xs.iter().zip(ys).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
-    sxy / sxx
 }
 
 /// Hydrostatic slope and scatter, resonant crest at 2 s and growth over 10 s, both schemes.

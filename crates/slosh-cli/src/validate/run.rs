@@ -305,6 +305,15 @@ pub fn zero_crossings(ts: &[f64], ys: &[f64], band: f64) -> Vec<(f64, i8)> {
     out
 }
 
+/// Least-squares slope of y on x with an intercept.
+pub fn fitted_slope(xs: &[f64], ys: &[f64]) -> f64 {
+    let n = xs.len() as f64;
+    let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
+    let sxy: f64 = xs.iter().zip(ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
+    sxy / sxx
+}
+
 /// Least-squares slope of y = s·x through the origin and the R² of that fit.
 pub fn slope_through_origin(xs: &[f64], ys: &[f64]) -> (f64, f64) {
     let sxy: f64 = xs.iter().zip(ys).map(|(x, y)| x * y).sum();

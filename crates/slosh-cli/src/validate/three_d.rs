@@ -3,7 +3,7 @@
 //! base shear of a cylinder against the linear (Veletsos-type rigid tank) modal solution with
 //! Housner's approximation beside it; a thin 3D box against the 2D code.
 
-use super::run::{rms, zero_crossings, Context, GRAVITY, RHO};
+use super::run::{fitted_slope, rms, zero_crossings, Context, GRAVITY, RHO};
 use super::sloshing::period_from_crossings;
 use super::{
     failed_run, fmt_num, info_row, plot_path, relative_check, stayed_inside, Check, GroupResult,
@@ -82,9 +82,7 @@ impl ComHistory {
         let crossings = zero_crossings(&self.t, &centred, 0.2 * amp);
         period_from_crossings(&crossings[1.min(crossings.len())..])
     }
-}
 
-impl ComHistory {
     /// The extreme of each half cycle about `centre` (m, the centre of mass at rest): times
     /// (s) and |x − centre| (m), each refined by a parabola through the three samples about
     /// the largest. The half cycles cut by the start and the end of the record are left out.
@@ -133,11 +131,7 @@ impl ComHistory {
         if t.len() < 3 {
             return f64::NAN;
         }
-        let n = t.len() as f64;
-        let (mt, my) = (t.iter().sum::<f64>() / n, ln.iter().sum::<f64>() / n);
-        let sxy: f64 = t.iter().zip(&ln).map(|(a, b)| (a - mt) * (b - my)).sum();
-        let sxx: f64 = t.iter().map(|a| (a - mt).powi(2)).sum();
-        -sxy / sxx
+        -fitted_slope(&t, &ln)
     }
 }
 
