@@ -401,9 +401,9 @@ fn run_case<const D: usize>(
     reset_peak_rss();
     let rss_before = proc_status_kib("VmRSS:").unwrap_or(0) as f64 * 1024.0;
     let base = if config.modern {
-        SphParams::modern()
+        SphParams::modern().with_paper_stiffness()
     } else {
-        SphParams::default()
+        SphParams::default().with_paper_stiffness()
     };
     let params = SphParams {
         neighbour_backend: backend,

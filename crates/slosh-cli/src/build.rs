@@ -16,6 +16,109 @@ fn initial_surface(name: &str) -> InitialSurface {
     }
 }
 
+/// Largest change of dx (fraction) accepted to fit the lattice to the tank's horizontal size.
+pub const MAX_SPACING_CHANGE: f64 = 0.02;
+
+/// A tank fitted to the particle lattice: the dimensions that will be simulated.
+#[derive(Clone, Debug)]
+pub struct FittedTank {
+    /// The tank with its lattice-bound dimensions (width, length, breadth, height).
+    pub tank: TankSpec,
+    /// The lattice spacing used (m).
+    pub dx: f64,
+    /// What changed, in words (empty when the tank fits the requested dx exactly).
+    pub notes: Vec<String>,
+}
+
+/// Fits the lattice to the tank: dx is adjusted (within [`MAX_SPACING_CHANGE`]) so that the
+/// width of a 2D section or the length of a box is a whole number of spacings, and the other
+/// lattice-bound dimensions (the roof or shell top, a box's breadth) go to the nearest
+/// lattice level. A cylinder's wall is not on the lattice and keeps dx as given. The fill
+/// depth is taken to whole rows by the geometry itself.
+pub fn fit_to_lattice(tank: &TankSpec, dx: f64) -> Result<FittedTank> {
+    if !(dx.is_finite() && dx > 0.0) {
+        bail!("the particle spacing dx must be a positive number of m (got {dx})");
+    }
+    let mut notes = Vec::new();
+    let mut fitted = tank.clone();
+    let fit_dx = |what: &str, size: f64, notes: &mut Vec<String>| -> Result<f64> {
+        if !(size.is_finite() && size > 0.0) {
+            return Ok(dx);
+        }
+        let n = (size / dx).round().max(1.0);
+        let fitted = size / n;
+        let change = fitted / dx - 1.0;
+        if change.abs() <= 1e-9 {
+            return Ok(dx);
+        }
+        if change.abs() > MAX_SPACING_CHANGE {
+            bail!(
+                "the {what} {size} m is {:.3} spacings of dx = {dx} m; fitting the lattice would \
+                 change dx by {:+.1} % (more than {} %): use dx = {} m ({} spacings) or {} m",
+                size / dx,
+                100.0 * change,
+                100.0 * MAX_SPACING_CHANGE,
+                size / n,
+                n,
+                size / (n + 1.0)
+            );
+        }
+        notes.push(format!(
+            "dx {dx} m → {fitted} m ({:+.2} %) so that the {what} {size} m holds {n} spacings",
+            100.0 * change
+        ));
+        Ok(fitted)
+    };
+    let level = |what: &str, size: f64, dx: f64, notes: &mut Vec<String>| -> f64 {
+        let n = (size / dx).round().max(1.0);
+        let fitted = n * dx;
+        if (fitted - size).abs() > 1e-9 * size.max(1.0) {
+            notes.push(format!(
+                "{what} {size} m → {fitted} m (the nearest lattice level, {n} spacings)"
+            ));
+            fitted
+        } else {
+            size
+        }
+    };
+    let dx = match &mut fitted {
+        TankSpec::Rect { width, height, .. } => {
+            let dx = fit_dx("tank width", *width, &mut notes)?;
+            *height = level("tank height", *height, dx, &mut notes);
+            dx
+        }
+        TankSpec::Box {
+            length,
+            breadth,
+            height,
+            ..
+        } => {
+            let dx = fit_dx("tank length", *length, &mut notes)?;
+            *breadth = level("tank breadth", *breadth, dx, &mut notes);
+            *height = level("tank height", *height, dx, &mut notes);
+            dx
+        }
+        TankSpec::Cylinder { .. } => dx,
+    };
+    // Keep a fill that was at the shell top within the fitted shell.
+    match &mut fitted {
+        TankSpec::Rect { height, depth, .. } | TankSpec::Box { height, depth, .. } => {
+            if *depth > *height {
+                notes.push(format!(
+                    "fill depth {depth} m → {height} m (the fitted shell top)"
+                ));
+                *depth = *height;
+            }
+        }
+        TankSpec::Cylinder { .. } => {}
+    }
+    Ok(FittedTank {
+        tank: fitted,
+        dx,
+        notes,
+    })
+}
+
 /// Builds the 2D particles of a 2D tank.
 pub fn build_2d(tank: &TankSpec, dx: f64) -> Result<ParticleSetup<2>> {
     match tank {

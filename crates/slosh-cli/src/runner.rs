@@ -4,7 +4,7 @@
 use crate::build;
 use anyhow::{Context, Result};
 use serde::Serialize;
-use slosh_core::{LoadPeaks, PartLoads, Simulation, SphParams, StepStats, Vector};
+use slosh_core::{LoadPeaks, PartLoads, Simulation, SoundSpeedRule, SphParams, StepStats, Vector};
 use slosh_io::{FrameSeries, PlotSpec, PointArray, Series, SeriesWriter};
 use slosh_script::{Case, ParamValue, TankSpec};
 use std::collections::VecDeque;
@@ -100,8 +100,33 @@ pub struct Summary {
     pub parameters: Vec<(String, ParamValue)>,
     /// Solver parameters used.
     pub numerics: SphParams,
-    /// The tank.
+    /// The tank as simulated (dimensions fitted to the lattice, the fill depth it holds).
     pub tank: TankSpec,
+    /// The tank as the script gave it.
+    pub tank_requested: TankSpec,
+    /// How the lattice changed the tank or dx (empty when it fits exactly).
+    pub lattice_notes: Vec<String>,
+    /// Tait stiffness B used (Pa).
+    pub eos_b: f64,
+    /// The rule that chose c0 and B.
+    pub sound_speed_rule: String,
+    /// H_ref of the sound-speed rule: the largest liquid column the tank can hold (m).
+    pub reference_depth: f64,
+    /// U_ref of the sound-speed rule: half the peak-to-peak ground velocity (m/s).
+    pub reference_flow_speed: f64,
+    /// Compression of the still liquid under its own weight predicted by the Tait EOS
+    /// (fraction of the depth).
+    pub hydrostatic_compression_predicted: f64,
+    /// Compression of the liquid measured when the excitation starts (at the end of the run
+    /// when there is no settling): 1 − Σ(m/ρ)/V0 (fraction; with vertical walls, the drop of
+    /// the still surface over the depth).
+    pub hydrostatic_compression: f64,
+    /// Largest Mach number max|v|/c0 reached.
+    pub max_mach: f64,
+    /// Steps with a Mach number above 0.1.
+    pub steps_above_mach_limit: u64,
+    /// Warnings about the run's numerics (also printed on stderr).
+    pub warnings: Vec<String>,
     /// Still-water level the elevations are measured from (m): the fill level lowered by the
     /// EOS compression of the liquid under its own weight.
     pub still_level: f64,
@@ -202,18 +227,52 @@ pub fn run_case(mut case: Case, opts: &RunOptions) -> Result<Summary> {
         .parent()
         .map(Path::to_path_buf)
         .unwrap_or_default();
+    let fit = build::fit_to_lattice(&case.tank, case.dx)?;
+    let mut sph = case.sph.clone();
+    if let SoundSpeedRule::FromCase { coefficient, .. } = sph.sound_speed {
+        let flow_speed = case.excitation_speed()?;
+        sph.sound_speed = SoundSpeedRule::FromCase {
+            coefficient,
+            flow_speed,
+        };
+    }
     match case.dim() {
         2 => {
-            let setup = build::build_2d(&case.tank, case.dx)?;
-            let sim = Simulation::<2>::new(setup, case.sph.clone())?;
-            run_loop(sim, &mut case, opts)
+            let setup = build::build_2d(&fit.tank, fit.dx)?;
+            let sim = Simulation::<2>::new(setup, sph)?;
+            run_loop(sim, &mut case, fit, opts)
         }
         _ => {
-            let setup = build::build_3d(&case.tank, case.dx, &script_dir)?;
-            let sim = Simulation::<3>::new(setup, case.sph.clone())?;
-            run_loop(sim, &mut case, opts)
+            let setup = build::build_3d(&fit.tank, fit.dx, &script_dir)?;
+            let sim = Simulation::<3>::new(setup, sph)?;
+            run_loop(sim, &mut case, fit, opts)
         }
     }
+}
+
+/// The tank as simulated: the fitted dimensions with the fill depth the lattice holds
+/// (whole rows of dx; the paper layout keeps its nominal depth, see `Layout::Paper`).
+fn simulated_tank<const D: usize>(sim: &Simulation<D>, fit: &mut build::FittedTank) -> TankSpec {
+    let (lo, _) = sim.interior_bounds();
+    let held = sim.fill_level() - lo[D - 1];
+    let mut tank = fit.tank.clone();
+    let paper_layout = matches!(&tank, TankSpec::Rect { layout, .. } if layout == "paper");
+    if !paper_layout {
+        let depth = match &mut tank {
+            TankSpec::Rect { depth, .. }
+            | TankSpec::Cylinder { depth, .. }
+            | TankSpec::Box { depth, .. } => depth,
+        };
+        if (held - *depth).abs() > 1e-9 * depth.max(1.0) {
+            fit.notes.push(format!(
+                "fill depth {} m → {held} m (whole rows of dx = {} m)",
+                *depth,
+                sim.spacing()
+            ));
+            *depth = held;
+        }
+    }
+    tank
 }
 
 /// Horizontal positions of the left and right wall gauges: on the x axis, one lattice
@@ -255,11 +314,27 @@ fn theory_numbers(tank: &TankSpec, gravity: f64) -> TheoryNumbers {
 fn run_loop<const D: usize>(
     mut sim: Simulation<D>,
     case: &mut Case,
+    mut fit: build::FittedTank,
     opts: &RunOptions,
 ) -> Result<Summary> {
     let out = &opts.out_dir;
     let n_fluid0 = sim.fluid().position.len();
     let n_wall = sim.walls().position.len();
+    let tank = simulated_tank(&sim, &mut fit);
+    let mut warnings: Vec<String> = sim
+        .sound_speed_choice()
+        .compression_warning()
+        .into_iter()
+        .collect();
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
+    if opts.verbose {
+        for note in &fit.notes {
+            eprintln!("{}: lattice: {note}", case.name);
+        }
+    }
+    let mut measured_compression: Option<f64> = None;
     if opts.verbose {
         eprintln!(
             "{}: {}D, {} fluid + {} wall particles, dx = {} m, h = {:.4} m, c0 = {:.2} m/s",
@@ -338,6 +413,10 @@ fn run_loop<const D: usize>(
 
     while sim.time() < duration - eps {
         let t = sim.time();
+        // At the end of settling; without settling, at the end of the run (below).
+        if measured_compression.is_none() && settle > 0.0 && t >= settle - eps {
+            measured_compression = Some(sim.mean_compression());
+        }
         let accel3 = if t >= settle - eps {
             match case.excitation.ground_accel(t - settle) {
                 Ok(a) => a,
@@ -483,6 +562,25 @@ fn run_loop<const D: usize>(
         .unwrap_or(f64::NAN)
     };
     let lost = n_fluid0 - sim.fluid_inside();
+    let measured_compression = measured_compression.unwrap_or_else(|| sim.mean_compression());
+    let choice = sim.sound_speed_choice().clone();
+    if choice.compression_warning().is_none()
+        && measured_compression > slosh_core::sound_speed::COMPRESSION_WARNING
+    {
+        let w = format!(
+            "the still liquid was compressed by {:.2} % of its volume at the end of settling \
+             (c0 = {:.1} m/s, {}); raise the sound speed (sound_speed_coefficient)",
+            100.0 * measured_compression,
+            choice.sound_speed,
+            choice.rule
+        );
+        eprintln!("warning: {w}");
+        warnings.push(w);
+    }
+    if let Some(w) = stats.mach_warning(choice.sound_speed) {
+        eprintln!("warning: {w}");
+        warnings.push(w);
+    }
     let _ = (cols.idx_base_shear_x, cols.idx_roof_force_up);
     let mut summary = Summary {
         version: env!("CARGO_PKG_VERSION").to_string(),
@@ -530,9 +628,20 @@ fn run_loop<const D: usize>(
             .map(|p| (p.name.clone(), p.value.clone()))
             .collect(),
         numerics: sim.params().clone(),
-        tank: case.tank.clone(),
+        theory: theory_numbers(&tank, sim.params().gravity),
+        tank,
+        tank_requested: case.tank.clone(),
+        lattice_notes: fit.notes.clone(),
         still_level: sim.still_level(),
-        theory: theory_numbers(&case.tank, sim.params().gravity),
+        eos_b: choice.eos_stiffness,
+        sound_speed_rule: choice.rule.clone(),
+        reference_depth: choice.reference_depth,
+        reference_flow_speed: choice.reference_flow_speed,
+        hydrostatic_compression_predicted: choice.compression_fraction,
+        hydrostatic_compression: measured_compression,
+        max_mach: stats.max_mach,
+        steps_above_mach_limit: stats.steps_above_mach_limit,
+        warnings,
         impacts: Vec::new(),
         kurihara_at_max: 0.0,
         malhotra_at_max: 0.0,
@@ -543,7 +652,7 @@ fn run_loop<const D: usize>(
     };
     if roof.has_roof() {
         let column = |name: &str| col(name).cloned().unwrap_or_default();
-        let tank = roof_tank(&case.tank, sim.params(), summary.theory.omega_1);
+        let tank = roof_tank(&summary.tank, sim.params(), summary.theory.omega_1);
         summary.impacts = crate::roof::find_impacts(
             &column("t"),
             &column("roof_force_up"),

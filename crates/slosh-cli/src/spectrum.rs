@@ -65,6 +65,10 @@ pub struct SpectrumSummary {
     pub code_wave_heights: Vec<CodeWaveHeight>,
     /// The SPH result to compare with: largest free-surface elevation at the walls, m.
     pub sph_max_eta_m: f64,
+    /// Freeboard H′ from the still level to the roof at the wall (m), when the tank has a roof.
+    pub freeboard_m: Option<f64>,
+    /// Malhotra's roof pressure from each code wave height that exceeds the freeboard.
+    pub malhotra_roof_pressures: Vec<CodeRoofPressure>,
 }
 
 /// The input spectrum of a case after its run: samples the script's `ground_accel` (x
@@ -102,7 +106,7 @@ pub fn write_case_input_spectrum(
         TankSpec::Box { length, .. } => (*length, false),
         TankSpec::Cylinder { radius, .. } => (2.0 * radius, true),
     };
-    write_input_spectrum(
+    let mut summary = write_input_spectrum(
         out,
         &times,
         &accel_x,
@@ -110,8 +114,78 @@ pub fn write_case_input_spectrum(
         size,
         is_cylinder,
         sph_max_eta,
-    )
-    .map(Some)
+    )?;
+    let freeboard = match &case.tank {
+        TankSpec::Rect {
+            height,
+            depth,
+            roof: true,
+            ..
+        }
+        | TankSpec::Box {
+            height,
+            depth,
+            roof: true,
+            ..
+        } => Some(height - depth),
+        TankSpec::Cylinder {
+            height,
+            depth,
+            roof,
+            ..
+        } if roof != "none" => Some(height - depth),
+        _ => None,
+    };
+    summary.freeboard_m = freeboard;
+    if let Some(h_free) = freeboard {
+        summary.malhotra_roof_pressures = malhotra_from_code_waves(
+            &summary.code_wave_heights,
+            h_free,
+            0.5 * size,
+            case.sph.rest_density,
+            case.sph.gravity,
+        );
+    }
+    Ok(Some(summary))
+}
+
+/// Malhotra's (2005) roof pressure for each code wave height d that exceeds the freeboard
+/// H′: the liquid surface, inclined at θ = π/4 (paper §3.2), is cut by the roof over the
+/// contact extent x_f = (d − H′)/tan θ from the wall (at most the half-width or radius), and
+/// P_max = ρ g x_f tan θ (paper Eq. 27).
+fn malhotra_from_code_waves(
+    waves: &[CodeWaveHeight],
+    freeboard: f64,
+    half_width: f64,
+    density: f64,
+    gravity: f64,
+) -> Vec<CodeRoofPressure> {
+    let theta = slosh_theory::roof::MALHOTRA_DEFAULT_ANGLE;
+    waves
+        .iter()
+        .map(|w| {
+            let extent = ((w.wave_height_m - freeboard).max(0.0) / theta.tan()).min(half_width);
+            CodeRoofPressure {
+                wave_from: w.code.clone(),
+                contact_extent_m: extent,
+                pressure_pa: slosh_theory::roof::malhotra_roof_pressure(
+                    density, gravity, extent, theta,
+                ),
+            }
+        })
+        .collect()
+}
+
+/// Malhotra's roof pressure from one code's wave height (0 when the wave stays below the
+/// roof).
+#[derive(Clone, Debug, Serialize)]
+pub struct CodeRoofPressure {
+    /// The code whose wave height was used.
+    pub wave_from: String,
+    /// Contact extent x_f of the liquid with the roof, from the wall (m).
+    pub contact_extent_m: f64,
+    /// Peak roof pressure P_max = ρ g x_f tan θ (Pa).
+    pub pressure_pa: f64,
 }
 
 /// Computes the pseudo-acceleration spectrum of the applied x acceleration, writes
@@ -235,6 +309,8 @@ pub fn write_input_spectrum(
         input_duration_s: dt * accel.len().saturating_sub(1) as f64,
         code_wave_heights,
         sph_max_eta_m: sph_max_eta,
+        freeboard_m: None,
+        malhotra_roof_pressures: Vec::new(),
     })
 }
 

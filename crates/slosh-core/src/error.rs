@@ -26,6 +26,24 @@ pub enum SimError {
         /// EOS sound speed (m/s).
         c0: f64,
     },
+    /// An explicitly chosen EOS stiffness that squeezes the still liquid by more than 3 %.
+    #[error(
+        "the EOS is too soft for this tank: the still liquid would be compressed by \
+         {percent:.1} % of its depth under its own weight (c0 = {sound_speed:.1} m/s, \
+         B = {eos_stiffness:.4e} Pa), which turns sloshing into an acoustic oscillation; \
+         remove eos_b / sound_speed to let the sound speed follow the tank (10 √(g H_ref) = \
+         {suggested_sound_speed:.1} m/s here), or set allow_compressible = true to run it anyway"
+    )]
+    TooCompressible {
+        /// Compression of the still liquid (% of its depth).
+        percent: f64,
+        /// EOS sound speed (m/s).
+        sound_speed: f64,
+        /// Tait stiffness B (Pa).
+        eos_stiffness: f64,
+        /// The sound speed of the default rule (m/s).
+        suggested_sound_speed: f64,
+    },
     /// A non-finite value appeared.
     #[error(
         "the simulation blew up at t = {time:.4} s (step {step}): {count} fluid particle(s) \

@@ -15,16 +15,19 @@ pub mod neighbours;
 pub mod params;
 pub mod setup;
 pub mod sim;
+pub mod sound_speed;
 
 pub use error::SimError;
 pub use kernel::{Kernel, KernelKind};
 pub use loads::{LoadEvaluator, LoadPeaks, PartLoads};
 pub use neighbours::{CellGrid, KdTreeSearch, NeighbourBackend, NeighbourSearch};
 pub use params::{
-    BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, SphParams, WallPressureMethod,
+    ArtificialSoundSpeed, BoundaryMethod, DensityDiffusion, DensityMethod, Integrator,
+    SoundSpeedRule, SphParams, WallPressureMethod, PAPER_EOS_STIFFNESS,
 };
 pub use setup::{ParticleSetup, TankInterior, PART_BOTTOM, PART_ROOF, PART_WALL};
 pub use sim::{Fluid, PhaseTimes, Simulation, StepStats, Tensor, Vector, Walls};
+pub use sound_speed::SoundSpeedChoice;
 
 #[cfg(test)]
 mod test_tank;

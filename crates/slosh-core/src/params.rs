@@ -66,6 +66,50 @@ pub enum BoundaryMethod {
     Adami,
 }
 
+/// How the EOS sound speed c0 (and with it the Tait stiffness B = ρ0 c0²/γ) is chosen.
+///
+/// Weakly compressible SPH needs c0 ≳ 10 × the largest flow speed and ≳ 10 √(g H) so that
+/// the liquid's density varies by ≲ 1 % (Monaghan 1994, J. Comput. Phys. 110; the same rule as
+/// DualSPHysics' `coefsound` × √(g h_swl) and PySPH's c0 = 10 U_max). A stiffness fixed for
+/// one tank is wrong for another: the paper's B = 1.013×10⁵ Pa (c0 = 26.6 m/s) fits its 0.5 m
+/// deep tank and compresses 13 m of water by 6 % under its own weight.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum SoundSpeedRule {
+    /// From the case: c0 = max(k √(g H_ref), 10 U_ref), H_ref the largest liquid column the
+    /// tank can hold (the height of the interior from the floor to the roof's highest point or
+    /// to the top of an open shell, at least the still depth) and U_ref an estimate of the
+    /// largest flow speed (m/s) supplied by whoever knows the excitation (0 = none).
+    FromCase {
+        /// k (dimensionless), 10 by default.
+        coefficient: f64,
+        /// U_ref (m/s).
+        flow_speed: f64,
+    },
+    /// c0 given (m/s).
+    Fixed(f64),
+    /// B given: `SphParams::eos_stiffness` as it stands.
+    Stiffness,
+}
+
+impl SoundSpeedRule {
+    /// The default rule: from the case with k = 10 and no flow-speed estimate.
+    pub const DEFAULT: SoundSpeedRule = SoundSpeedRule::FromCase {
+        coefficient: 10.0,
+        flow_speed: 0.0,
+    };
+}
+
+/// The sound speed of Monaghan's artificial viscosity (Eq. 10–17).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum ArtificialSoundSpeed {
+    /// Paper Eq. 17: c = η √(200 g H), H the still depth.
+    Eq17,
+    /// The EOS sound speed c0, whatever rule chose it.
+    Eos,
+    /// A given value (m/s).
+    Fixed(f64),
+}
+
 /// Time integrator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Integrator {
@@ -85,8 +129,15 @@ pub struct SphParams {
     pub rest_density: f64,
     /// Dynamic viscosity μ of the Newtonian stress (Pa·s), Eq. 3.
     pub dynamic_viscosity: f64,
-    /// Tait EOS stiffness B (Pa), Eq. 18.
+    /// Tait EOS stiffness B (Pa), Eq. 18. Used as given only with
+    /// [`SoundSpeedRule::Stiffness`]; otherwise the simulation derives it from `sound_speed`
+    /// (and `Simulation::params` reports the value used).
     pub eos_stiffness: f64,
+    /// How c0 and B are chosen (default: from the case, k = 10).
+    pub sound_speed: SoundSpeedRule,
+    /// Accept an explicitly chosen stiffness that compresses the still liquid by more than
+    /// 3 % of its depth under its own weight (refused otherwise).
+    pub allow_compressible: bool,
     /// Tait EOS exponent γ, Eq. 18.
     pub eos_gamma: f64,
     /// Smoothing length over lattice spacing, h/dx (paper read as 1.3: h = 0.026 m).
@@ -99,8 +150,8 @@ pub struct SphParams {
     pub av_beta: f64,
     /// η of the artificial-viscosity sound speed c = η √(200 g H) (Eq. 17).
     pub av_eta: f64,
-    /// Override of the artificial-viscosity sound speed (m/s); `None` uses Eq. 17.
-    pub av_sound_speed: Option<f64>,
+    /// Sound speed of the artificial viscosity.
+    pub av_sound_speed: ArtificialSoundSpeed,
     /// β_s of the free-surface density reset (Eq. 20).
     pub free_surface_threshold: f64,
     /// Clamp negative pressure to zero (p = max(p, 0)) on all particles (SPEC.md §4).
@@ -151,19 +202,25 @@ pub struct SphParams {
     pub shifting: Option<f64>,
 }
 
+/// The paper's Tait stiffness B = 1.013×10⁵ Pa (Eq. 18; c0 = 26.6 m/s with γ = 7), right for
+/// its 0.5 m deep laboratory tank only.
+pub const PAPER_EOS_STIFFNESS: f64 = 1.013e5;
+
 impl Default for SphParams {
     fn default() -> Self {
         SphParams {
             rest_density: 1000.0,
             dynamic_viscosity: 1.0e-3,
-            eos_stiffness: 1.013e5,
+            eos_stiffness: PAPER_EOS_STIFFNESS,
+            sound_speed: SoundSpeedRule::DEFAULT,
+            allow_compressible: false,
             eos_gamma: 7.0,
             smoothing_ratio: 1.3,
             kernel: KernelKind::CubicSpline,
             av_alpha: 0.01,
             av_beta: 0.0,
             av_eta: 0.1,
-            av_sound_speed: None,
+            av_sound_speed: ArtificialSoundSpeed::Eq17,
             free_surface_threshold: 0.95,
             clamp_negative_pressure: true,
             wall_separation: false,
@@ -214,11 +271,21 @@ impl SphParams {
             boundary: BoundaryMethod::Adami,
             integrator: Integrator::Symplectic,
             av_alpha: 0.02,
-            av_sound_speed: Some(base.eos_sound_speed()),
+            av_sound_speed: ArtificialSoundSpeed::Eos,
             clamp_negative_pressure: false,
             wall_separation: true,
             wall_pressure: WallPressureMethod::WallParticle,
             ..base
+        }
+    }
+
+    /// The same parameters with the stiffness fixed at the paper's B = 1.013×10⁵ Pa instead of
+    /// the case's rule: the paper's laboratory tanks exactly as the paper ran them.
+    pub fn with_paper_stiffness(self) -> Self {
+        SphParams {
+            eos_stiffness: PAPER_EOS_STIFFNESS,
+            sound_speed: SoundSpeedRule::Stiffness,
+            ..self
         }
     }
 
@@ -230,7 +297,7 @@ impl SphParams {
             || self.integrator == Integrator::Symplectic
     }
 
-    /// Speed of sound of the Tait EOS, c0 = √(γ B / ρ0) (m/s).
+    /// Speed of sound of the Tait EOS for the stiffness as it stands, c0 = √(γ B / ρ0) (m/s).
     pub fn eos_sound_speed(&self) -> f64 {
         (self.eos_gamma * self.eos_stiffness / self.rest_density).sqrt()
     }

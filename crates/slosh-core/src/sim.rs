@@ -26,8 +26,9 @@ use crate::error::SimError;
 use crate::kernel::Kernel;
 use crate::loads::LoadEvaluator;
 use crate::neighbours::{CellGrid, KdTreeSearch, NeighbourBackend, NeighbourSearch};
-use crate::params::SphParams;
+use crate::params::{ArtificialSoundSpeed, SphParams};
 use crate::setup::{ParticleSetup, TankInterior};
+use crate::sound_speed::{choose_sound_speed, compressed_depth, SoundSpeedChoice};
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 
@@ -235,6 +236,31 @@ pub struct StepStats {
     pub dt_bound_min: f64,
     /// Steps whose fixed dt exceeded the bound of that step.
     pub steps_above_bound: u64,
+    /// Largest Mach number max|v|/c0 seen at a step.
+    pub max_mach: f64,
+    /// Steps whose Mach number exceeded [`crate::sound_speed::MACH_LIMIT`].
+    pub steps_above_mach_limit: u64,
+    /// Time (s) of the first step above that limit (0 when none).
+    pub first_time_above_mach_limit: f64,
+}
+
+impl StepStats {
+    /// The warning a user should read when the flow outran the sound speed's assumption
+    /// (Mach above [`crate::sound_speed::MACH_LIMIT`] for more than a few steps).
+    pub fn mach_warning(&self, sound_speed: f64) -> Option<String> {
+        (self.steps_above_mach_limit > crate::sound_speed::MACH_STEPS_TOLERATED).then(|| {
+            format!(
+                "the flow reached Mach {:.3} (max|v|/c0, c0 = {:.1} m/s) and stayed above {} \
+                 for {} steps from t = {:.3} s: density errors exceed 1 %; raise the sound \
+                 speed (sound_speed_coefficient, or sound_speed ≥ 10 × the largest flow speed)",
+                self.max_mach,
+                sound_speed,
+                crate::sound_speed::MACH_LIMIT,
+                self.steps_above_mach_limit,
+                self.first_time_above_mach_limit
+            )
+        })
+    }
 }
 
 /// An SPH simulation of liquid in a fixed tank under gravity and a ground acceleration.
@@ -276,6 +302,8 @@ pub struct Simulation<const D: usize> {
     modern: Option<modern::ModernState<D>>,
     /// `still_level()`, computed once (m).
     still_level_cached: f64,
+    /// The sound speed and stiffness chosen for this tank, and why.
+    sound_choice: SoundSpeedChoice,
     /// The paper step with the cell grid keeps the fluid sorted by cell every step and sweeps
     /// each pair once ([`density_pass_sorted`], [`force_pass_sorted`]).
     sorted_every_step: bool,
@@ -344,11 +372,21 @@ impl<const D: usize> Simulation<D> {
         }
         let h = params.smoothing_ratio * dx;
         let kernel = Kernel::new(params.kernel, h, D);
-        let sound_speed = params.eos_sound_speed();
         let depth = setup.fill_level - setup.interior_min[D - 1];
-        let av_sound_speed = params
-            .av_sound_speed
-            .unwrap_or_else(|| params.av_eta * (200.0 * params.gravity * depth.max(0.0)).sqrt());
+        let interior_height = setup.interior_max[D - 1] - setup.interior_min[D - 1];
+        let sound_choice = choose_sound_speed(&params, depth, interior_height)?;
+        let mut params = params;
+        params.eos_stiffness = sound_choice.eos_stiffness;
+        let sound_speed = sound_choice.sound_speed;
+        let av_sound_speed = match params.av_sound_speed {
+            // Eq. 17: c = η √(200 g H).
+            ArtificialSoundSpeed::Eq17 => {
+                params.av_eta * (200.0 * params.gravity * depth.max(0.0)).sqrt()
+            }
+            ArtificialSoundSpeed::Eos => sound_speed,
+            ArtificialSoundSpeed::Fixed(c) => c,
+        };
+        check_positive("av_sound_speed", av_sound_speed.max(f64::MIN_POSITIVE))?;
         if let Some(dt) = params.fixed_dt {
             check_positive("dt", dt)?;
             let bound = params.cfl_number * h / sound_speed;
@@ -487,6 +525,9 @@ impl<const D: usize> Simulation<D> {
                 dt_max: 0.0,
                 dt_bound_min: f64::INFINITY,
                 steps_above_bound: 0,
+                max_mach: 0.0,
+                steps_above_mach_limit: 0,
+                first_time_above_mach_limit: 0.0,
             },
             phase_times: PhaseTimes::default(),
             loads,
@@ -502,6 +543,7 @@ impl<const D: usize> Simulation<D> {
                 && params.neighbour_backend == NeighbourBackend::CellGrid,
             modern,
             still_level_cached: 0.0,
+            sound_choice,
             blocks: Vec::new(),
             wall_scatter: WallScatter::default(),
             params,
@@ -614,6 +656,14 @@ impl<const D: usize> Simulation<D> {
         };
         let bound = acoustic.min(force).min(viscous);
         self.stats.dt_bound_min = self.stats.dt_bound_min.min(bound);
+        let mach = max_speed / self.sound_speed;
+        self.stats.max_mach = self.stats.max_mach.max(mach);
+        if mach > crate::sound_speed::MACH_LIMIT {
+            self.stats.steps_above_mach_limit += 1;
+            if self.stats.steps_above_mach_limit == 1 {
+                self.stats.first_time_above_mach_limit = self.time;
+            }
+        }
         let dt = match self.params.fixed_dt {
             Some(dt) => {
                 if dt > bound {
@@ -899,7 +949,28 @@ impl<const D: usize> Simulation<D> {
     pub fn sound_speed(&self) -> f64 {
         self.sound_speed
     }
-    /// Sound speed used by the artificial viscosity (m/s).
+    /// The sound speed and stiffness chosen for this tank (rule, H_ref, compression).
+    pub fn sound_speed_choice(&self) -> &SoundSpeedChoice {
+        &self.sound_choice
+    }
+
+    /// Volume-weighted compression of the liquid now: 1 − Σ(m/ρ)/V0, V0 the volume of the
+    /// particles at ρ0 (a fraction; with vertical walls, the still surface's drop over the
+    /// depth times the depth-to-mean ratio). Positive when the liquid is squeezed.
+    pub fn mean_compression(&self) -> f64 {
+        let rho0 = self.params.rest_density;
+        let n = self.fluid.density.len().max(1) as f64;
+        let volume_ratio: f64 = self
+            .fluid
+            .density
+            .par_iter()
+            .with_min_len(PAR_CHUNK)
+            .map(|rho| rho0 / rho)
+            .sum();
+        1.0 - volume_ratio / n
+    }
+
+    /// Sound speed of the artificial viscosity (m/s).
     pub fn av_sound_speed(&self) -> f64 {
         self.constants.av_sound_speed
     }
@@ -927,24 +998,20 @@ impl<const D: usize> Simulation<D> {
         self.fill_level
     }
     /// Height (m) of the free surface of this liquid at rest: the fill level lowered by the
-    /// compression of the Tait EOS under its own weight. With bottom pressure p_b = ρ0 g H
-    /// (the weight of the column) and dz = dp/(ρ g), ρ = ρ0 (1 + p/B)^(1/γ):
-    /// H' = B γ / (ρ0 g (γ − 1)) [(1 + p_b/B)^((γ−1)/γ) − 1]  (≈ H − ρ0 g H²/(2γB)).
-    /// Wave elevations are measured from this level. Exact for walls that are vertical over
-    /// the liquid depth.
+    /// compression of the Tait EOS under its own weight ([`compressed_depth`]). Wave
+    /// elevations are measured from this level. Exact for walls that are vertical over the
+    /// liquid depth.
     pub fn still_level(&self) -> f64 {
         let floor = self.interior_min[D - 1];
-        let depth = self.fill_level - floor;
-        let (b, gamma, rho0, g) = (
-            self.params.eos_stiffness,
-            self.params.eos_gamma,
-            self.params.rest_density,
-            self.params.gravity,
-        );
-        let p_bottom = rho0 * g * depth;
-        let compressed = b * gamma / (rho0 * g * (gamma - 1.0))
-            * ((1.0 + p_bottom / b).powf((gamma - 1.0) / gamma) - 1.0);
-        floor + compressed
+        let p = &self.params;
+        floor
+            + compressed_depth(
+                self.fill_level - floor,
+                p.eos_stiffness,
+                p.eos_gamma,
+                p.rest_density,
+                p.gravity,
+            )
     }
 
     /// Bounding box of the tank interior (m).

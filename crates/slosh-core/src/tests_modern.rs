@@ -42,7 +42,7 @@ fn fingerprint<const D: usize>(sim: &Simulation<D>) -> Vec<u64> {
 
 fn paper_run_2d() -> Vec<u64> {
     let setup = box_tank::<2>([0.4, 0.4], 0.2, 0.02, 0.02);
-    let mut sim = Simulation::new(setup, SphParams::default()).unwrap();
+    let mut sim = Simulation::new(setup, SphParams::default().with_paper_stiffness()).unwrap();
     for _ in 0..300 {
         let t = sim.time();
         sim.step(Vector::<2>::new(2.0 * (10.0 * t).sin(), 0.0))
@@ -53,7 +53,7 @@ fn paper_run_2d() -> Vec<u64> {
 
 fn paper_run_3d() -> Vec<u64> {
     let setup = box_tank::<3>([0.2, 0.1, 0.2], 0.1, 0.01, 0.02);
-    let mut sim = Simulation::new(setup, SphParams::default()).unwrap();
+    let mut sim = Simulation::new(setup, SphParams::default().with_paper_stiffness()).unwrap();
     for _ in 0..100 {
         let t = sim.time();
         sim.step(Vector::<3>::new(2.0 * (10.0 * t).sin(), 1.0, 0.0))
@@ -122,7 +122,7 @@ use crate::{BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, KernelK
 
 /// The modern preset.
 pub(crate) fn modern_params() -> SphParams {
-    SphParams::modern()
+    SphParams::modern().with_paper_stiffness()
 }
 
 /// First-mode circular frequency of a rectangular tank of width L, depth H (SPEC §5).
@@ -281,7 +281,10 @@ fn modern_resonant_crest() {
 #[test]
 #[ignore]
 fn explore_paper_vs_modern() {
-    for (name, p) in [("paper", SphParams::default()), ("modern", modern_params())] {
+    for (name, p) in [
+        ("paper", SphParams::default().with_paper_stiffness()),
+        ("modern", modern_params()),
+    ] {
         for (w, d) in [(1.0, 0.5), (0.6, 0.3)] {
             let (t, th, err) = free_sloshing_period(p.clone(), w, d, 0.02);
             eprintln!(
@@ -303,7 +306,7 @@ fn explore_paper_vs_modern() {
 #[test]
 #[ignore]
 fn explore_switches_hydrostatic() {
-    let base = SphParams::default();
+    let base = SphParams::default().with_paper_stiffness();
     let m = modern_params();
     let variants: Vec<(&str, SphParams)> = vec![
         ("modern", m.clone()),
@@ -450,7 +453,7 @@ fn explore_drift() {
 #[test]
 #[ignore]
 fn explore_switches_period() {
-    let base = SphParams::default();
+    let base = SphParams::default().with_paper_stiffness();
     let m = modern_params();
     let which = std::env::var("SLOSH_VARIANT").unwrap_or_default();
     let variants: Vec<(&str, SphParams)> = vec![
@@ -551,7 +554,7 @@ fn explore_candidate() {
             av_alpha: 0.01,
             ..m
         },
-        "paper" => SphParams::default(),
+        "paper" => SphParams::default().with_paper_stiffness(),
         _ => m,
     };
     if std::env::var("SLOSH_CREST_ONLY").is_ok() {

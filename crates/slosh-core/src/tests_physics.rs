@@ -14,7 +14,7 @@ fn run_until<const D: usize>(sim: &mut Simulation<D>, t_end: f64) {
 #[test]
 fn hydrostatic_pressure_after_settling() {
     let setup = box_tank::<2>([1.0, 1.0], 0.5, 0.0, 0.02);
-    let mut sim = Simulation::new(setup, SphParams::default()).unwrap();
+    let mut sim = Simulation::new(setup, SphParams::default().with_paper_stiffness()).unwrap();
     run_until(&mut sim, 1.0);
     let (mut sxy, mut sxx) = (0.0, 0.0);
     for (x, p) in sim.fluid().position.iter().zip(&sim.fluid().pressure) {
@@ -37,7 +37,7 @@ fn backends_agree() {
             let setup = box_tank::<2>([0.4, 0.4], 0.2, 0.02, 0.02);
             let params = SphParams {
                 neighbour_backend: b,
-                ..SphParams::default()
+                ..SphParams::default().with_paper_stiffness()
             };
             Simulation::new(setup, params).unwrap()
         })
@@ -70,7 +70,7 @@ fn backends_agree() {
 #[ignore]
 fn explore_resonant_paper_case() {
     let setup = box_tank::<2>([1.0, 1.0], 0.5, 0.0, 0.02);
-    let mut sim = Simulation::new(setup, SphParams::default()).unwrap();
+    let mut sim = Simulation::new(setup, SphParams::default().with_paper_stiffness()).unwrap();
     let (a, w) = (0.0093, 5.311);
     let t0 = std::time::Instant::now();
     let mut next = 2.0;
@@ -111,7 +111,7 @@ fn explore_throughput() {
         let n = setup.fluid_positions.len() + setup.wall_positions.len();
         let params = SphParams {
             neighbour_backend: backend,
-            ..SphParams::default()
+            ..SphParams::default().with_paper_stiffness()
         };
         let mut sim = Simulation::new(setup, params).unwrap();
         for _ in 0..20 {
@@ -148,7 +148,7 @@ fn modern_backends_agree() {
                     neighbour_backend: b,
                     shifting: Some(0.5),
                     wall_no_slip: no_slip,
-                    ..SphParams::modern()
+                    ..SphParams::modern().with_paper_stiffness()
                 };
                 Simulation::new(setup, params).unwrap()
             })
@@ -185,7 +185,7 @@ fn explore_modern_throughput_3d() {
     pool.install(|| {
         let setup = box_tank::<3>([0.6, 0.6, 0.4], 0.3, 0.0, 0.012);
         let n = setup.fluid_positions.len() + setup.wall_positions.len();
-        let mut sim = Simulation::new(setup, SphParams::modern()).unwrap();
+        let mut sim = Simulation::new(setup, SphParams::modern().with_paper_stiffness()).unwrap();
         for _ in 0..3 {
             sim.step(Vector::<3>::zeros()).unwrap();
         }
@@ -230,7 +230,10 @@ fn results_do_not_depend_on_the_thread_count() {
             (f.id.iter().map(|&i| i as u64).collect(), f.position.clone())
         })
     }
-    for params in [SphParams::paper(), SphParams::modern()] {
+    for params in [
+        SphParams::paper().with_paper_stiffness(),
+        SphParams::modern().with_paper_stiffness(),
+    ] {
         // 2D: ≈3,800 fluid particles in 8 sweep blocks.
         let one = run::<2>(1, [0.8, 0.4], 0.006, &params);
         let three = run::<2>(3, [0.8, 0.4], 0.006, &params);

@@ -4,7 +4,7 @@
 use crate::engine::{build_engine, Declared, Globals, PlotRequest, Shared};
 use crate::error::ScriptError;
 use crate::params::{ParamDecl, ParamValue};
-use crate::spec::{numerics_from_map, GaugeSpec, RunSpec, TankSpec};
+use crate::spec::{numerics_from_map, GaugeSpec, Resolution, RunSpec, TankSpec};
 use rhai::{CallFnOptions, Dynamic, Engine, Map, Scope, AST};
 use slosh_core::SphParams;
 use std::path::{Path, PathBuf};
@@ -186,8 +186,10 @@ pub struct Case {
     pub sph: SphParams,
     /// Scheme preset name.
     pub scheme: String,
-    /// Lattice spacing dx (m).
+    /// Lattice spacing dx (m) the script asks for (before the lattice is fitted to the tank).
     pub dx: f64,
+    /// How the script gave the resolution (dx, particles per depth or per radius).
+    pub resolution: Resolution,
     /// Run control.
     pub run: RunSpec,
     /// Extra wave gauges.
@@ -202,6 +204,33 @@ impl Case {
     /// Space dimension (2 or 3).
     pub fn dim(&self) -> usize {
         self.tank.dim()
+    }
+
+    /// U_ref of the sound-speed rule (m/s): the largest speed of the tank relative to the
+    /// liquid at rest, estimated as half the peak-to-peak of the ground velocity (the
+    /// excitation integrated from rest, per component) over the excitation. For a sine
+    /// A ω² sin ωt it is A ω. Samples `ground_accel` every 5 ms or finer.
+    pub fn excitation_speed(&mut self) -> Result<f64, ScriptError> {
+        let span = (self.run.duration - self.run.settle).max(0.0);
+        if !self.excitation.has_ground_accel() || span <= 0.0 {
+            return Ok(0.0);
+        }
+        let n = ((span / 0.005).ceil() as usize).clamp(1, 2_000_000);
+        let dt = span / n as f64;
+        let mut velocity = [0.0f64; 3];
+        let mut low = [0.0f64; 3];
+        let mut high = [0.0f64; 3];
+        let mut previous = self.excitation.ground_accel(0.0)?;
+        for i in 1..=n {
+            let a = self.excitation.ground_accel(i as f64 * dt)?;
+            for k in 0..3 {
+                velocity[k] += 0.5 * dt * (a[k] + previous[k]);
+                low[k] = low[k].min(velocity[k]);
+                high[k] = high[k].max(velocity[k]);
+            }
+            previous = a;
+        }
+        Ok((0..3).map(|k| 0.5 * (high[k] - low[k])).fold(0.0, f64::max))
     }
 }
 
@@ -277,7 +306,8 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
     })?;
     let tank = TankSpec::from_map(&tank_map).map_err(err)?;
     let numerics = d.numerics.take().unwrap_or_default();
-    let (sph, scheme, dx) = numerics_from_map(&numerics).map_err(err)?;
+    let (sph, scheme, resolution) = numerics_from_map(&numerics).map_err(err)?;
+    let dx = resolution.spacing_for(&tank).map_err(err)?;
     let run = match d.run.take() {
         Some(m) => RunSpec::from_map(&m).map_err(err)?,
         None => RunSpec::default(),
@@ -319,6 +349,7 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
         sph,
         scheme,
         dx,
+        resolution,
         run,
         gauges,
         motions,

@@ -26,4 +26,4 @@ pub use engine::{resolve_script_path, PlotRequest};
 pub use error::ScriptError;
 pub use motion_api::MotionInfo;
 pub use params::{parse_set_value, ParamDecl, ParamValue};
-pub use spec::{GaugeSpec, RunSpec, TankSpec};
+pub use spec::{GaugeSpec, Resolution, RunSpec, TankSpec};

@@ -3,8 +3,8 @@
 use rhai::{Dynamic, Map};
 use serde::Serialize;
 use slosh_core::{
-    BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, KernelKind, NeighbourBackend,
-    SphParams, WallPressureMethod,
+    ArtificialSoundSpeed, BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, KernelKind,
+    NeighbourBackend, SoundSpeedRule, SphParams, WallPressureMethod,
 };
 use std::collections::BTreeSet;
 
@@ -173,6 +173,15 @@ fn tilt_shape(r: &mut MapReader) -> Result<String, String> {
 }
 
 impl TankSpec {
+    /// Still liquid depth (m).
+    pub fn depth(&self) -> f64 {
+        match self {
+            TankSpec::Rect { depth, .. }
+            | TankSpec::Cylinder { depth, .. }
+            | TankSpec::Box { depth, .. } => *depth,
+        }
+    }
+
     /// Space dimension of the tank (2 or 3).
     pub fn dim(&self) -> usize {
         match self {
@@ -291,9 +300,43 @@ pub struct GaugeSpec {
     pub horizontal: Vec<f64>,
 }
 
+/// How fine the particles are, as the script says it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub enum Resolution {
+    /// Lattice spacing dx (m).
+    Spacing(f64),
+    /// Particles across the still depth: dx = depth / n.
+    PerDepth(f64),
+    /// Particles across a cylinder's radius: dx = R / n.
+    PerRadius(f64),
+}
+
+impl Resolution {
+    /// The lattice spacing (m) for `tank`.
+    pub fn spacing_for(&self, tank: &TankSpec) -> Result<f64, String> {
+        let n_ok = |n: f64, key: &str| {
+            if n.is_finite() && n >= 1.0 {
+                Ok(n)
+            } else {
+                Err(format!("numerics: {key} must be a number ≥ 1 (got {n})"))
+            }
+        };
+        match *self {
+            Resolution::Spacing(dx) => Ok(dx),
+            Resolution::PerDepth(n) => Ok(tank.depth() / n_ok(n, "particles_per_depth")?),
+            Resolution::PerRadius(n) => match tank {
+                TankSpec::Cylinder { radius, .. } => Ok(radius / n_ok(n, "particles_per_radius")?),
+                _ => Err("numerics: particles_per_radius is for cylinders; use \
+                          particles_per_depth or dx for this tank"
+                    .into()),
+            },
+        }
+    }
+}
+
 /// Reads `numerics(#{...})` into solver parameters, starting from the scheme preset.
-/// Returns the parameters and the scheme name.
-pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, f64), String> {
+/// Returns the parameters, the scheme name and the resolution.
+pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, Resolution), String> {
     let mut r = MapReader::new("numerics", map);
     let scheme = r.str_or("scheme", "paper")?;
     let mut p = match scheme.as_str() {
@@ -305,7 +348,21 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, f64), S
             ))
         }
     };
-    let dx = r.f64_or("dx", 0.02)?;
+    let resolution = match (
+        r.opt_f64("dx")?,
+        r.opt_f64("particles_per_depth")?,
+        r.opt_f64("particles_per_radius")?,
+    ) {
+        (None, None, None) => Resolution::Spacing(0.02),
+        (Some(dx), None, None) => Resolution::Spacing(dx),
+        (None, Some(n), None) => Resolution::PerDepth(n),
+        (None, None, Some(n)) => Resolution::PerRadius(n),
+        _ => {
+            return Err(
+                "numerics: give one of dx, particles_per_depth and particles_per_radius".into(),
+            )
+        }
+    };
     p.smoothing_ratio = r.f64_or("h_over_dx", p.smoothing_ratio)?;
     p.kernel = match r.str_or("kernel", kernel_name(p.kernel))?.as_str() {
         "cubic_spline" | "cubic" => KernelKind::CubicSpline,
@@ -318,13 +375,22 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, f64), S
     };
     p.rest_density = r.f64_or("rest_density", p.rest_density)?;
     p.dynamic_viscosity = r.f64_or("viscosity", p.dynamic_viscosity)?;
-    p.eos_stiffness = r.f64_or("eos_b", p.eos_stiffness)?;
+    read_sound_speed(&mut r, &mut p)?;
     p.eos_gamma = r.f64_or("eos_gamma", p.eos_gamma)?;
     p.av_alpha = r.f64_or("av_alpha", p.av_alpha)?;
     p.av_beta = r.f64_or("av_beta", p.av_beta)?;
     p.av_eta = r.f64_or("av_eta", p.av_eta)?;
     if let Some(c) = r.opt_f64("av_sound_speed")? {
-        p.av_sound_speed = if c > 0.0 { Some(c) } else { None };
+        if !(c.is_finite() && c >= 0.0) {
+            return Err(format!(
+                "numerics: av_sound_speed must be a speed ≥ 0 m/s (0 = Eq. 17), got {c}"
+            ));
+        }
+        p.av_sound_speed = if c > 0.0 {
+            ArtificialSoundSpeed::Fixed(c)
+        } else {
+            ArtificialSoundSpeed::Eq17
+        };
     }
     p.free_surface_threshold = r.f64_or("free_surface_threshold", p.free_surface_threshold)?;
     p.clamp_negative_pressure = r.bool_or("clamp_negative_pressure", p.clamp_negative_pressure)?;
@@ -426,7 +492,55 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, f64), S
     p.pressure_smoothing_eps = r.f64_or("smoothing_eps", p.pressure_smoothing_eps)?;
     p.smoothing_steps = r.usize_or("smoothing_steps", p.smoothing_steps)?;
     r.finish()?;
-    Ok((p, scheme, dx))
+    Ok((p, scheme, resolution))
+}
+
+/// Reads the EOS stiffness keys: `eos_b` (B, Pa), `sound_speed` (c0, m/s) or
+/// `sound_speed_coefficient` (k of c0 = max(k √(g H_ref), 10 U_ref)); at most one of them.
+/// Without any, c0 follows the tank with k = 10. `allow_compressible` lifts the refusal of a
+/// stiffness that squeezes the still liquid by more than 3 %.
+fn read_sound_speed(r: &mut MapReader, p: &mut SphParams) -> Result<(), String> {
+    let eos_b = r.opt_f64("eos_b")?;
+    let c0 = r.opt_f64("sound_speed")?;
+    let k = r.opt_f64("sound_speed_coefficient")?;
+    p.sound_speed = match (eos_b, c0, k) {
+        (None, None, None) => p.sound_speed,
+        (Some(b), None, None) => {
+            if !(b.is_finite() && b > 0.0) {
+                return Err(format!(
+                    "numerics: eos_b must be a positive number of Pa (got {b})"
+                ));
+            }
+            p.eos_stiffness = b;
+            SoundSpeedRule::Stiffness
+        }
+        (None, Some(c), None) => {
+            if !(c.is_finite() && c > 0.0) {
+                return Err(format!(
+                    "numerics: sound_speed must be a positive number of m/s (got {c})"
+                ));
+            }
+            SoundSpeedRule::Fixed(c)
+        }
+        (None, None, Some(k)) => {
+            if !(k.is_finite() && k > 0.0) {
+                return Err(format!(
+                    "numerics: sound_speed_coefficient must be a positive number (got {k})"
+                ));
+            }
+            SoundSpeedRule::FromCase {
+                coefficient: k,
+                flow_speed: 0.0,
+            }
+        }
+        _ => {
+            return Err("numerics: give at most one of eos_b, sound_speed and \
+                        sound_speed_coefficient (they all set the EOS stiffness)"
+                .into())
+        }
+    };
+    p.allow_compressible = r.bool_or("allow_compressible", p.allow_compressible)?;
+    Ok(())
 }
 
 fn density_name(d: DensityMethod) -> &'static str {
@@ -469,7 +583,7 @@ fn wall_pressure_name(m: WallPressureMethod) -> &'static str {
 mod tests {
     use super::*;
 
-    fn numerics(pairs: &[(&str, Dynamic)]) -> Result<(SphParams, String, f64), String> {
+    fn numerics(pairs: &[(&str, Dynamic)]) -> Result<(SphParams, String, Resolution), String> {
         let mut map = Map::new();
         for (k, v) in pairs {
             map.insert((*k).into(), v.clone());

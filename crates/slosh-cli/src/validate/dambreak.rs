@@ -696,11 +696,10 @@ fn viscous_current_inner(ctx: &Context, group: &str) -> Result<GroupResult> {
     let mut g = GroupResult::default();
     let mut runs: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
     for no_slip in [true, false] {
-        let mut params = SphParams::modern();
+        let mut params = SphParams::modern().with_paper_stiffness();
         params.dynamic_viscosity = RHO * VISCOUS_NU;
         params.wall_no_slip = no_slip;
         params.eos_stiffness = RHO * VISCOUS_SOUND_SPEED.powi(2) / params.eos_gamma;
-        params.av_sound_speed = Some(params.eos_sound_speed());
         let mut sim = dam_break_sim(params, 6.0 * a, 2.0 * a, a, a, dx)?;
         let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
         // The free-slip run only shows where the liquid is without wall friction.

@@ -7,6 +7,7 @@
 
 mod dambreak;
 mod modern;
+mod real_scale;
 mod report;
 mod resolution;
 mod run;
@@ -365,6 +366,27 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             "resolution study",
             one("Resolution study", resolution::study),
         ),
+        (
+            "real scale: Froude similarity",
+            one(
+                "Real scale: Froude similarity (sound speed from the tank)",
+                real_scale::froude_similarity,
+            ),
+        ),
+        (
+            "real scale: hydrostatics at depth",
+            one(
+                "Real scale: hydrostatics under 20 m of liquid",
+                real_scale::hydrostatics_at_depth,
+            ),
+        ),
+        (
+            "real scale: free sloshing of 2D sections",
+            one(
+                "Real scale: free sloshing of 2D sections",
+                real_scale::free_sloshing_2d,
+            ),
+        ),
     ];
     // The 3D checks (issue 5) run in the full suite only (≈ 15 min on 2 cores).
     let stages: Vec<Stage> = if opts.quick {
@@ -388,6 +410,10 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
         all.push((
             "3D: cylinder period, forced cylinder",
             Box::new(three_d::cylinder_groups),
+        ));
+        all.push((
+            "real scale: 3D cylinder, free and forced",
+            Box::new(real_scale::cylinder),
         ));
         all.push((
             "3D box against 2D",

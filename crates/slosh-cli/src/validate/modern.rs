@@ -128,7 +128,7 @@ pub fn damping(ctx: &Context) -> GroupResult {
     let mut g = GroupResult::default();
     let dx = DAMPING_DX;
     let viscous = |no_slip: bool| {
-        let mut p = SphParams::modern();
+        let mut p = SphParams::modern().with_paper_stiffness();
         p.dynamic_viscosity = RHO * DAMPING_NU;
         p.wall_no_slip = no_slip;
         p.av_alpha = 0.0;
@@ -159,7 +159,7 @@ pub fn damping(ctx: &Context) -> GroupResult {
         ),
         (
             "water, modern scheme",
-            SphParams::modern(),
+            SphParams::modern().with_paper_stiffness(),
             WATER_NU,
             Numerical,
         ),
@@ -659,19 +659,19 @@ fn roof_impact(ctx: &Context) -> GroupResult {
     let excitation_time = 2.2;
     let modern = roof_run(
         ctx,
-        SphParams::modern(),
+        SphParams::modern().with_paper_stiffness(),
         "modern scheme",
         group,
         excitation_time,
     );
     let paper = roof_run(
         ctx,
-        SphParams::paper(),
+        SphParams::paper().with_paper_stiffness(),
         "paper scheme",
         group,
         excitation_time,
     );
-    let mut with_shifting = SphParams::modern();
+    let mut with_shifting = SphParams::modern().with_paper_stiffness();
     with_shifting.shifting = Some(SHIFTING_COMPARED);
     let shifted = roof_run(
         ctx,
@@ -859,7 +859,7 @@ pub fn stability(ctx: &Context) -> GroupResult {
     let run = || -> anyhow::Result<StabilityRun> {
         let tank_height = DEPTH * 1.2;
         let mut sim = rect_sim_with(
-            SphParams::modern(),
+            SphParams::modern().with_paper_stiffness(),
             WIDTH,
             tank_height,
             DEPTH,

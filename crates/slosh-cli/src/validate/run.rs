@@ -42,7 +42,7 @@ impl Context {
 pub fn paper_params() -> SphParams {
     SphParams {
         wall_pressure: slosh_core::WallPressureMethod::KernelExtrapolation,
-        ..SphParams::default()
+        ..SphParams::default().with_paper_stiffness()
     }
 }
 
@@ -100,7 +100,7 @@ impl Scheme {
     pub fn modern() -> Self {
         Scheme {
             label: "modern scheme",
-            params: SphParams::modern(),
+            params: SphParams::modern().with_paper_stiffness(),
             is_paper: false,
         }
     }

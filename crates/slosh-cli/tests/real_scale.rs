@@ -1,0 +1,198 @@
+//! The sound speed follows the tank: a stiffness that squeezes the still liquid is refused or
+//! warned about, a flow too fast for the sound speed is warned about, and the resolution can
+//! be given per depth or per radius with the lattice fitted to the tank.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn temp(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir()
+        .join("slosh-real-scale-tests")
+        .join(test);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Writes a 2D case: `tank` and `numerics` map bodies, no excitation unless `accel` is given.
+fn case(dir: &Path, tank: &str, numerics: &str, duration: f64, accel: &str) -> PathBuf {
+    let script = format!(
+        "tank(#{{ shape: \"rect\", {tank} }});\n\
+         numerics(#{{ {numerics} }});\n\
+         run(#{{ settle: 0.0, duration: {duration}, output_interval: 0.01 }});\n\
+         fn ground_accel(t) {{ {accel} }}\n"
+    );
+    let path = dir.join("case.rhai");
+    std::fs::write(&path, script).unwrap();
+    path
+}
+
+/// Runs `slosh run CASE --out DIR --quiet`; returns (success, stderr, summary.ron text).
+fn run(case: &Path, out: &Path) -> (bool, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_slosh"))
+        .args([
+            "run",
+            case.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .arg("--quiet")
+        .output()
+        .expect("run slosh");
+    let stderr = String::from_utf8_lossy(&o.stderr).to_string();
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let summary = std::fs::read_to_string(out.join("summary.ron")).unwrap_or_default();
+    (o.status.success(), stderr, summary)
+}
+
+/// The number after `key: ` in a summary.
+fn field(summary: &str, key: &str) -> f64 {
+    let start = summary
+        .find(&format!("    {key}: "))
+        .unwrap_or_else(|| panic!("{key} not in the summary"));
+    let rest = &summary[start + key.len() + 6..];
+    rest[..rest.find(',').unwrap()].trim().parse().unwrap()
+}
+
+/// The paper's B in a 13 m deep tank compresses the water by 6.3 %: refused with the fix;
+/// `allow_compressible` runs it with a warning in the summary.
+#[test]
+fn paper_stiffness_in_a_real_tank_is_refused() {
+    let dir = temp("refused");
+    let tank = "width: 24.0, height: 16.0, depth: 13.0, roof: true";
+    let c = case(
+        &dir,
+        tank,
+        "scheme: \"modern\", dx: 1.0, eos_b: 1.013e5",
+        0.05,
+        "0.0",
+    );
+    let (ok, err, _) = run(&c, &dir.join("out"));
+    assert!(!ok);
+    assert!(
+        err.contains("compressed by 6.") && err.contains("allow_compressible"),
+        "{err}"
+    );
+    let c = case(
+        &dir,
+        tank,
+        "scheme: \"modern\", dx: 1.0, eos_b: 1.013e5, allow_compressible: true",
+        0.05,
+        "0.0",
+    );
+    let (ok, err, summary) = run(&c, &dir.join("out2"));
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("warning: the liquid is compressed by 6."),
+        "{err}"
+    );
+    assert!(
+        summary.contains("warnings: [\n        \"the liquid is compressed"),
+        "{summary}"
+    );
+}
+
+/// Without any numerics override the sound speed follows the tank: 10 √(g H_ref) with H_ref
+/// the 16 m roof height, the still liquid compressed by < 0.5 % (predicted and measured).
+#[test]
+fn default_sound_speed_follows_the_tank() {
+    let dir = temp("default_rule");
+    let tank = "width: 24.0, height: 16.0, depth: 13.0, roof: true";
+    let c = case(&dir, tank, "scheme: \"modern\", dx: 1.0", 0.2, "0.0");
+    let (ok, err, summary) = run(&c, &dir.join("out"));
+    assert!(ok, "{err}");
+    let c0 = field(&summary, "sound_speed");
+    assert!((c0 - 10.0 * (9.81f64 * 16.0).sqrt()).abs() < 1e-9, "{c0}");
+    let b = field(&summary, "eos_b");
+    assert!((b - 1000.0 * c0 * c0 / 7.0).abs() < 1e-6 * b);
+    // Tait compression of 13 m under c0 = 125 m/s: ≈ g H/(2 c0²) = 0.41 %.
+    let predicted = field(&summary, "hydrostatic_compression_predicted");
+    assert!((predicted - 0.0040).abs() < 0.0003, "{predicted}");
+    let measured = field(&summary, "hydrostatic_compression");
+    assert!(
+        (measured - predicted).abs() < 0.001,
+        "{measured} vs {predicted}"
+    );
+    assert!(summary.contains("warnings: []"), "{summary}");
+    assert!(summary.contains("sound_speed_rule: \"10 √(g H_ref) with H_ref = 16.0000 m\""));
+}
+
+/// A soft EOS (c0 = 10 m/s in 0.5 m of water: 2.5 % compression) and a flow at Mach ≈ 0.2
+/// (a 0.4 m tilt released): both warnings, run completed.
+#[test]
+fn soft_eos_and_fast_flow_are_warned() {
+    let dir = temp("mach");
+    let tank = "width: 1.0, height: 1.0, depth: 0.5, roof: true, tilt: 0.4";
+    let c = case(
+        &dir,
+        tank,
+        "scheme: \"modern\", dx: 0.04, sound_speed: 10.0",
+        0.5,
+        "0.0",
+    );
+    let (ok, err, summary) = run(&c, &dir.join("out"));
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("warning: the liquid is compressed by 2."),
+        "{err}"
+    );
+    assert!(err.contains("warning: the flow reached Mach"), "{err}");
+    assert!(field(&summary, "max_mach") > 0.1);
+    assert!(field(&summary, "steps_above_mach_limit") > 10.0);
+}
+
+/// `particles_per_depth` sets dx = depth / n; a width that is not a whole number of spacings
+/// gets dx adjusted (within 2 %) and the summary says so; beyond 2 % it is refused.
+#[test]
+fn resolution_per_depth_and_lattice_fit() {
+    let dir = temp("fit");
+    let c = case(
+        &dir,
+        "width: 1.0, height: 1.0, depth: 0.5",
+        "particles_per_depth: 15",
+        0.02,
+        "0.0",
+    );
+    let (ok, err, summary) = run(&c, &dir.join("out"));
+    assert!(ok, "{err}");
+    // dx = 0.5/15 = 0.0333 m: 30 spacings across 1.0 m exactly.
+    assert!((field(&summary, "dx") - 0.5 / 15.0).abs() < 1e-12);
+    let c = case(
+        &dir,
+        "width: 1.0, height: 0.95, depth: 0.5",
+        "dx: 0.0303",
+        0.02,
+        "0.0",
+    );
+    let (ok, err, summary) = run(&c, &dir.join("out2"));
+    assert!(ok, "{err}");
+    // 1.0/0.0303 = 33.0: dx → 1/33 m; the roof goes to the nearest level, 31 spacings.
+    assert!((field(&summary, "dx") - 1.0 / 33.0).abs() < 1e-12);
+    assert!(
+        summary.contains("so that the tank width 1 m holds 33 spacings"),
+        "{summary}"
+    );
+    assert!(summary.contains("tank height 0.95 m →"), "{summary}");
+    let c = case(
+        &dir,
+        "width: 1.0, height: 1.0, depth: 0.5",
+        "dx: 0.3",
+        0.02,
+        "0.0",
+    );
+    let (ok, err, _) = run(&c, &dir.join("out3"));
+    assert!(!ok);
+    assert!(
+        err.contains("would change dx by") && err.contains("use dx ="),
+        "{err}"
+    );
+    let c = case(
+        &dir,
+        "width: 1.0, height: 1.0, depth: 0.5",
+        "dx: 0.02, particles_per_depth: 10",
+        0.02,
+        "0.0",
+    );
+    let (ok, err, _) = run(&c, &dir.join("out4"));
+    assert!(!ok && err.contains("give one of dx"), "{err}");
+}
