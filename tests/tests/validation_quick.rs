@@ -45,6 +45,9 @@ fn quick_validation_suite_passes() {
         "Modern scheme: roof impact",
         "Modern scheme: dam-break front",
         "Modern scheme: dam-break pressure",
+        "Real scale: Froude similarity",
+        "Real scale: hydrostatics under 20 m of liquid",
+        "Real scale: free sloshing of 2D sections",
     ] {
         assert!(
             report

@@ -44,6 +44,10 @@ pub enum BenchTank {
     PaperRect2,
     /// Cylinder R = 0.5 m, shell 0.6 m, 0.5 m of water, flat roof.
     Cylinder3,
+    /// The real-scale tank of `scripts/tank_real_scale.rhai`: R = 12 m, shell 16 m, 13 m of
+    /// water, cone roof rising 1.5 m; the sound speed from the tank (the laboratory cases keep
+    /// the paper's stiffness so that their figures compare across commits).
+    RealCylinder3,
 }
 
 /// One fixed bench case.
@@ -99,6 +103,14 @@ pub fn full_cases() -> Vec<BenchCase> {
             tank: BenchTank::Cylinder3,
             dx: 0.01,
             steps: 20,
+            kdtree: false,
+        },
+        // The real tank at 24 particles per radius (≈ 75k particles).
+        BenchCase {
+            name: "3d-real",
+            tank: BenchTank::RealCylinder3,
+            dx: 0.5,
+            steps: 40,
             kdtree: false,
         },
     ]
@@ -175,10 +187,13 @@ pub struct BenchRow {
     /// 1-minute load average at the end of the case's timed blocks.
     pub load_avg: f64,
     pub version: String,
+    /// Wall time per simulated second (s/s): what a run of the case costs per second of
+    /// ground motion at this throughput.
+    pub wall_s_per_simulated_s: f64,
 }
 
 /// Columns of `bench.csv`, in order.
-pub const CSV_COLUMNS: [&str; 29] = [
+pub const CSV_COLUMNS: [&str; 30] = [
     "case",
     "dim",
     "particles",
@@ -208,13 +223,14 @@ pub const CSV_COLUMNS: [&str; 29] = [
     "warmup_steps",
     "median_block_particle_steps_per_s",
     "scheme",
+    "wall_s_per_simulated_s",
 ];
 
 impl BenchRow {
     fn csv_line(&self) -> String {
         let s = &self.shares;
         format!(
-            "{},{},{},{},{:.0},{:.1},{},{},{},{},{:.4},{:.0},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.1},{:.1},{:.1},{:.3},{:.0},{:.2},{},{},{:.0},{}",
+            "{},{},{},{},{:.0},{:.1},{},{},{},{},{:.4},{:.0},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.1},{:.1},{:.1},{:.3},{:.0},{:.2},{},{},{:.0},{},{:.2}",
             self.case,
             self.dim,
             self.particles,
@@ -244,6 +260,7 @@ impl BenchRow {
             WARMUP_STEPS,
             self.median_block_particle_steps_per_s,
             self.scheme,
+            self.wall_s_per_simulated_s,
         )
     }
 }
@@ -351,6 +368,14 @@ pub fn run_bench(cases: &[BenchCase], config: &BenchConfig, out: &Path) -> Resul
                         Ok(CylinderTank::new(0.5, 0.6, 0.5, Roof::Flat).build(case.dx)?)
                     })
                 }
+                BenchTank::RealCylinder3 => {
+                    run_case::<3>(case, backend, config, &pools, &version, || {
+                        Ok(
+                            CylinderTank::new(12.0, 16.0, 13.0, Roof::Cone { apex_height: 1.5 })
+                                .build(case.dx)?,
+                        )
+                    })
+                }
             }
             .with_context(|| format!("bench case {} ({})", case.name, backend_name(backend)))?;
             rows.extend(new_rows);
@@ -400,10 +425,15 @@ fn run_case<const D: usize>(
 ) -> Result<Vec<BenchRow>> {
     reset_peak_rss();
     let rss_before = proc_status_kib("VmRSS:").unwrap_or(0) as f64 * 1024.0;
-    let base = if config.modern {
-        SphParams::modern().with_paper_stiffness()
+    let preset = if config.modern {
+        SphParams::modern()
     } else {
-        SphParams::default().with_paper_stiffness()
+        SphParams::paper()
+    };
+    let base = if case.tank == BenchTank::RealCylinder3 {
+        preset
+    } else {
+        preset.with_paper_stiffness()
     };
     let params = SphParams {
         neighbour_backend: backend,
@@ -443,8 +473,10 @@ fn run_case<const D: usize>(
                 let p0 = sim.phase_times();
                 let cpu0 = process_cpu_s();
                 let t0 = Instant::now();
+                let sim_t0 = sim.time();
                 advance(&mut sim, n)?;
                 let wall = t0.elapsed().as_secs_f64();
+                timing.sim_s += sim.time() - sim_t0;
                 timing.wall_s += wall;
                 timing.cpu_s += process_cpu_s() - cpu0;
                 timing.block_step_s[b] = wall / n as f64;
@@ -458,6 +490,7 @@ fn run_case<const D: usize>(
         let threads = pool.current_num_threads();
         let PoolTiming {
             wall_s,
+            sim_s,
             cpu_s,
             phases,
             block_step_s,
@@ -503,6 +536,7 @@ fn run_case<const D: usize>(
             particle_steps_per_cpu_s: (particles * steps) as f64 / cpu_s,
             load_avg: load_avg_1m(),
             version: version.to_string(),
+            wall_s_per_simulated_s: wall_s / sim_s,
         };
         rows.push(row);
     }
@@ -520,6 +554,8 @@ fn run_case<const D: usize>(
 #[derive(Clone, Copy, Debug, Default)]
 struct PoolTiming {
     wall_s: f64,
+    /// Simulated time of the timed steps (s).
+    sim_s: f64,
     cpu_s: f64,
     phases: PhaseTimes,
     /// Wall time per step of each block (the first `blocks` entries).
@@ -637,16 +673,16 @@ impl SolverBytes {
 
 fn print_header() {
     println!(
-        "{:<8} {:<6} {:>3} {:>8} {:>8} {:>5} {:>7} {:>8} {:>8} {:>8} {:>8} | {:>4} {:>4} {:>4} {:>4} {:>4} {:>4} | {:>6} {:>7} {:>4} {:>5}",
+        "{:<8} {:<6} {:>3} {:>8} {:>8} {:>5} {:>7} {:>8} {:>8} {:>8} {:>8} | {:>4} {:>4} {:>4} {:>4} {:>4} {:>4} | {:>6} {:>7} {:>4} {:>5} {:>8}",
         "case", "search", "thr", "particles", "fluid", "steps", "wall s", "Mpst/s", "fluid", "median", "best",
-        "nbr", "dens", "forc", "intg", "load", "oth", "B/part", "peak MB", "cpu", "load"
+        "nbr", "dens", "forc", "intg", "load", "oth", "B/part", "peak MB", "cpu", "load", "wall/sim"
     );
 }
 
 fn print_row(r: &BenchRow) {
     let pct = |x: f64| format!("{:.0}%", 100.0 * x);
     println!(
-        "{:<8} {:<6} {:>3} {:>8} {:>8} {:>5} {:>7.2} {:>8.3} {:>8.3} {:>8.3} {:>8.3} | {:>4} {:>4} {:>4} {:>4} {:>4} {:>4} | {:>6.0} {:>7.0} {:>4} {:>5.2}",
+        "{:<8} {:<6} {:>3} {:>8} {:>8} {:>5} {:>7.2} {:>8.3} {:>8.3} {:>8.3} {:>8.3} | {:>4} {:>4} {:>4} {:>4} {:>4} {:>4} | {:>6.0} {:>7.0} {:>4} {:>5.2} {:>8.1}",
         r.case,
         r.backend,
         r.threads,
@@ -668,6 +704,7 @@ fn print_row(r: &BenchRow) {
         r.peak_rss_mb,
         pct(r.cpu_util),
         r.load_avg,
+        r.wall_s_per_simulated_s,
     );
 }
 

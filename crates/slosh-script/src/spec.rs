@@ -631,6 +631,60 @@ mod tests {
     }
 
     #[test]
+    fn sound_speed_and_resolution_keys() {
+        let (p, _, r) = numerics(&[]).unwrap();
+        assert_eq!(p.sound_speed, SoundSpeedRule::DEFAULT);
+        assert_eq!(r, Resolution::Spacing(0.02));
+        let (p, _, _) = numerics(&[("eos_b", Dynamic::from(1.013e5))]).unwrap();
+        assert_eq!(p.sound_speed, SoundSpeedRule::Stiffness);
+        assert_eq!(p.eos_stiffness, 1.013e5);
+        let (p, _, _) = numerics(&[("sound_speed", Dynamic::from(50.0))]).unwrap();
+        assert_eq!(p.sound_speed, SoundSpeedRule::Fixed(50.0));
+        let (p, _, r) = numerics(&[
+            ("sound_speed_coefficient", Dynamic::from(15.0)),
+            ("particles_per_depth", Dynamic::from(20_i64)),
+        ])
+        .unwrap();
+        assert_eq!(
+            p.sound_speed,
+            SoundSpeedRule::FromCase {
+                coefficient: 15.0,
+                flow_speed: 0.0
+            }
+        );
+        assert_eq!(r, Resolution::PerDepth(20.0));
+        for bad in [
+            vec![("eos_b", Dynamic::from(1e5)), ("sound_speed", Dynamic::from(20.0))],
+            vec![("dx", Dynamic::from(0.1)), ("particles_per_radius", Dynamic::from(10.0))],
+            vec![("eos_b", Dynamic::from(-1.0))],
+            vec![("sound_speed_coefficient", Dynamic::from(0.0))],
+        ] {
+            assert!(numerics(&bad).is_err(), "{bad:?}");
+        }
+        let cylinder = TankSpec::Cylinder {
+            radius: 12.0,
+            height: 16.0,
+            depth: 13.0,
+            roof: "cone".into(),
+            roof_rise: 1.5,
+            tilt: 0.0,
+            tilt_shape: "plane".into(),
+        };
+        assert_eq!(Resolution::PerRadius(24.0).spacing_for(&cylinder), Ok(0.5));
+        assert_eq!(Resolution::PerDepth(26.0).spacing_for(&cylinder), Ok(0.5));
+        let rect = TankSpec::Rect {
+            width: 1.0,
+            height: 1.0,
+            depth: 0.5,
+            roof: true,
+            layout: "offset".into(),
+            tilt: 0.0,
+            tilt_shape: "plane".into(),
+        };
+        assert!(Resolution::PerRadius(10.0).spacing_for(&rect).is_err());
+    }
+
+    #[test]
     fn unknown_values_are_reported() {
         for (key, value, hint) in [
             ("density", "sum", "continuity"),

@@ -416,6 +416,13 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             Box::new(real_scale::cylinder),
         ));
         all.push((
+            "real scale: 3D cylinder at 48 particles per radius",
+            one(
+                "Real-scale cylinder: free sloshing, 48 particles per radius",
+                real_scale::cylinder_fine,
+            ),
+        ));
+        all.push((
             "3D box against 2D",
             one("3D: thin box against the 2D code", three_d::box_vs_2d),
         ));
