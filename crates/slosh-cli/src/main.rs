@@ -257,11 +257,7 @@ fn parse_sets(sets: &[String]) -> Result<CaseOptions> {
 fn cmd_run(args: RunArgs) -> Result<()> {
     set_threads(args.threads)?;
     if args.list_params {
-        let params = list_params(&args.case)?;
-        println!("{:<24} {:<16} default", "parameter", "type");
-        for p in params {
-            println!("{:<24} {:<16} {}", p.name, p.default.type_name(), p.default);
-        }
+        print!("{}", params_table(&list_params(&args.case)?));
         return Ok(());
     }
     let options = parse_sets(&args.set)?;
@@ -277,6 +273,27 @@ fn cmd_run(args: RunArgs) -> Result<()> {
     };
     run_case(case, &opts)?;
     Ok(())
+}
+
+/// The `--list-params` table: name, type, default, unit and description of each parameter
+/// (`-` for a parameter without a unit, `(not documented)` when the script says nothing).
+fn params_table(params: &[slosh_script::ParamDecl]) -> String {
+    let mut text = format!(
+        "{:<20} {:<10} {:<14} {:<8} description\n",
+        "parameter", "type", "default", "unit"
+    );
+    for p in params {
+        let default = p.default.to_string();
+        text.push_str(&format!(
+            "{:<20} {:<10} {:<14} {:<8} {}\n",
+            p.name,
+            p.default.type_name(),
+            default,
+            p.unit.as_deref().unwrap_or("-"),
+            p.description.as_deref().unwrap_or("(not documented)")
+        ));
+    }
+    text
 }
 
 fn cmd_sweep(args: SweepArgs) -> Result<()> {
