@@ -3,7 +3,9 @@
 
 pub mod bench;
 pub mod build;
+pub mod load_filter;
 pub mod post;
+pub mod progress;
 pub mod roof;
 pub mod runner;
 pub mod spectrum;

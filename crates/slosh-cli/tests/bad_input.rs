@@ -207,6 +207,34 @@ fn blow_up_keeps_outputs_and_says_when() {
 }
 
 #[test]
+fn set_twice_names_the_parameter() {
+    let dir = temp("set_twice");
+    let case = small_case(&dir, "0.0", "");
+    let (ok, err) = run(&[
+        "run",
+        case.to_str().unwrap(),
+        "--set",
+        "depth=0.2",
+        "--set",
+        "depth=0.3",
+        "--quiet",
+    ]);
+    assert!(!ok);
+    assert!(err.contains("--set depth is given twice"), "{err}");
+}
+
+#[test]
+fn non_finite_set_value_is_refused() {
+    let dir = temp("set_inf");
+    let case = small_case(&dir, "0.0", "");
+    for value in ["duration=inf", "depth=nan"] {
+        let (ok, err) = run(&["run", case.to_str().unwrap(), "--set", value, "--quiet"]);
+        assert!(!ok);
+        assert!(err.contains("must be a finite number"), "{err}");
+    }
+}
+
+#[test]
 fn list_params_prints_the_declared_parameters() {
     let out = slosh()
         .args([
@@ -236,6 +264,11 @@ fn list_params_prints_the_declared_parameters() {
     ] {
         assert!(text.contains(name), "missing {name} in\n{text}");
     }
+    let width = text.lines().find(|l| l.starts_with("width ")).unwrap();
+    assert!(
+        width.contains(" m ") && width.contains("inner tank width"),
+        "unit and description: {width}"
+    );
 }
 
 /// A `post(run)` that throws reports the script line and keeps the run's other outputs.

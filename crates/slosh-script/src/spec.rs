@@ -234,6 +234,9 @@ pub struct RunSpec {
     pub output_interval: f64,
     /// Interval of particle frames (s); 0 = no frames.
     pub frame_interval: f64,
+    /// Cut-off of the low-pass filter of the `*_lp` load columns (Hz); `None` = ten times
+    /// the tank's first sloshing frequency.
+    pub load_filter_hz: Option<f64>,
 }
 
 impl RunSpec {
@@ -244,6 +247,7 @@ impl RunSpec {
             duration: r.f64_or("duration", 12.0)?,
             output_interval: r.f64_or("output_interval", 0.01)?,
             frame_interval: r.f64_or("frame_interval", 0.0)?,
+            load_filter_hz: r.opt_f64("load_filter_hz")?,
         };
         r.finish()?;
         if !(spec.duration.is_finite() && spec.duration > 0.0) {
@@ -267,6 +271,14 @@ impl RunSpec {
                 spec.frame_interval
             ));
         }
+        if let Some(f) = spec.load_filter_hz {
+            if !(f.is_finite() && f > 0.0) {
+                return Err(format!(
+                    "run: load_filter_hz must be a cut-off frequency > 0 Hz (got {f}); leave it \
+                     out for ten times the first sloshing frequency"
+                ));
+            }
+        }
         Ok(spec)
     }
 }
@@ -278,6 +290,7 @@ impl Default for RunSpec {
             duration: 12.0,
             output_interval: 0.01,
             frame_interval: 0.0,
+            load_filter_hz: None,
         }
     }
 }
