@@ -8,6 +8,7 @@ pub mod post;
 pub mod progress;
 pub mod roof;
 pub mod runner;
+pub mod shipped_scripts;
 pub mod spectrum;
 pub mod sweep;
 pub mod sweep_plot;

@@ -1,7 +1,7 @@
 //! `slosh`: sloshing loads on storage tanks by SPH. See `slosh --help`.
 
 use anyhow::{bail, Context, Result};
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 use slosh_cli::{run_case, RunOptions};
 use slosh_script::{list_params, load_case, parse_set_value, CaseOptions};
 use std::io::Write;
@@ -195,7 +195,7 @@ fn x86_64_v3_supported() -> bool {
 
 fn main() -> ExitCode {
     exit_unless_cpu_supports_build();
-    let cli = Cli::parse();
+    let cli = parse_command_line();
     let result = match cli.command {
         Command::Run(args) => cmd_run(args),
         Command::Sweep(args) => cmd_sweep(args),
@@ -221,6 +221,15 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// Parses the command line; `slosh run --help` (and `slosh help run`) end with the shipped
+/// case scripts and their purpose.
+fn parse_command_line() -> Cli {
+    let command = Cli::command().mut_subcommand("run", |run| {
+        run.after_help(slosh_cli::shipped_scripts::help_text())
+    });
+    Cli::from_arg_matches(&command.get_matches()).unwrap_or_else(|e| e.exit())
 }
 
 fn set_threads(threads: Option<usize>) -> Result<()> {

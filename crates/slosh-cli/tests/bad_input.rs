@@ -294,3 +294,21 @@ fn failing_post_reports_the_line_and_keeps_outputs() {
     let summary = std::fs::read_to_string(out.join("summary.ron")).unwrap();
     assert!(summary.contains("post_error: Some("), "{summary}");
 }
+
+/// `slosh run --help` and `slosh help run` list the shipped scripts with their purpose, found
+/// from the executable's repository when the current folder has no `scripts/`.
+#[test]
+fn run_help_lists_the_shipped_scripts() {
+    let elsewhere = temp("help_elsewhere");
+    for args in [["run", "--help"], ["help", "run"]] {
+        let out = slosh().args(args).current_dir(&elsewhere).output().unwrap();
+        assert!(out.status.success());
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            text.contains("paper_2d_sloshing.rhai")
+                && text.contains("Paper §3.1: resonant sloshing"),
+            "{args:?}: {text}"
+        );
+        assert!(text.contains("cylinder_3d.rhai"), "{text}");
+    }
+}
