@@ -133,7 +133,7 @@ pub struct Summary {
     pub max_roof_force_up_lp: f64,
     /// Peaks of each raw load column of `series.csv` and of its filtered copy.
     pub load_peaks: Vec<LoadPeak>,
-    /// True when the liquid touched the roof (a roof pressure above 1 Pa in some row).
+    /// True when the liquid touched the roof (a time-windowed roof pressure above 1 Pa).
     pub roof_contact: bool,
     /// Why there are no roof plots, when there are none.
     pub roof_note: Option<String>,
@@ -467,8 +467,10 @@ fn run_loop<const D: usize>(
     let load_peaks = add_filtered_columns(&mut load_filter, &mut names, &mut history);
     rewrite_series(&out.join("series.csv"), &names, &history)?;
     let cols = Columns { names, ..cols };
-    let roof_contact =
-        roof.has_roof() && max_of_column(&cols.names, &history, "roof_p_max") > WET_PRESSURE;
+    // The rows, and every step's time-windowed peak (a contact between two rows counts).
+    let roof_contact = roof.has_roof()
+        && max_of_column(&cols.names, &history, "roof_p_max").max(sim.loads().peaks().max_roof_p)
+            > WET_PRESSURE;
     if let Some(fr) = frames.as_mut() {
         if failure.is_none() {
             write_frame(fr, &sim, sim.time())?;
