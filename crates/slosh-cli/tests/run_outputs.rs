@@ -137,6 +137,34 @@ fn every_gauge_is_on_the_elevation_plot() {
 }
 
 #[test]
+fn every_gauge_is_on_the_elevation_plot_in_3d() {
+    let dir = temp("gauges_3d");
+    let case = dir.join("box.rhai");
+    std::fs::write(
+        &case,
+        r#"
+tank(#{ shape: "box", length: 0.4, breadth: 0.2, height: 0.4, depth: 0.2 });
+numerics(#{ dx: 0.04 });
+run(#{ settle: 0.0, duration: 0.03, output_interval: 0.005 });
+gauge("mid", 0.2, 0.1);
+fn ground_accel(t) { 0.5 * sin(8.5 * t) }
+"#,
+    )
+    .unwrap();
+    let out = dir.join("out");
+    slosh_run(&case, &out, &["--quiet"]);
+    let plot = read(out.join("plots/eta.svg"));
+    for gauge in ["eta_left", "eta_right", "eta_mid"] {
+        assert!(plot.contains(gauge), "{gauge} missing from eta.svg");
+    }
+    let series = read(out.join("series.csv"));
+    let header = series.lines().next().unwrap();
+    assert!(header.ends_with(
+        "base_shear_x_lp,base_shear_y_lp,roof_force_up_lp,overturning_moment_y_lp,overturning_moment_x_lp"
+    ), "{header}");
+}
+
+#[test]
 fn progress_lines_without_a_terminal_and_none_with_quiet() {
     let dir = temp("progress");
     let case = roofed_case(&dir, 0.4, 0.0, 0.5, "");
