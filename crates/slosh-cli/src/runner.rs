@@ -463,14 +463,9 @@ fn run_loop<const D: usize>(
     drop(writer);
     let omega_1 = theory_numbers(&case.tank, sim.params().gravity).omega_1;
     let mut load_filter = LoadFilter::new(case.run.load_filter_hz, omega_1);
-    let mut names = cols.names.clone();
-    let load_peaks = add_filtered_columns(&mut load_filter, &mut names, &mut history);
-    rewrite_series(&out.join("series.csv"), &names, &history)?;
-    let cols = Columns { names, ..cols };
-    // The rows, and every step's time-windowed peak (a contact between two rows counts).
-    let roof_contact = roof.has_roof()
-        && max_of_column(&cols.names, &history, "roof_p_max").max(sim.loads().peaks().max_roof_p)
-            > WET_PRESSURE;
+    let (cols, load_peaks) = with_filtered_loads(out, cols, &mut history, &mut load_filter)?;
+    let roof_contact =
+        roof.has_roof() && touched_roof(&cols.names, &history, sim.loads().peaks().max_roof_p);
     if let Some(fr) = frames.as_mut() {
         if failure.is_none() {
             write_frame(fr, &sim, sim.time())?;
@@ -658,6 +653,26 @@ fn run_loop<const D: usize>(
         }
     }
     Ok(summary)
+}
+
+/// Appends the filtered copies of the load columns to `cols` and `history` and writes
+/// `series.csv` again with them; returns the new column layout and the peaks.
+fn with_filtered_loads(
+    out: &Path,
+    cols: Columns,
+    history: &mut Vec<Vec<f64>>,
+    filter: &mut LoadFilter,
+) -> Result<(Columns, Vec<LoadPeak>)> {
+    let mut names = cols.names.clone();
+    let peaks = add_filtered_columns(filter, &mut names, history);
+    rewrite_series(&out.join("series.csv"), &names, history)?;
+    Ok((Columns { names, ..cols }, peaks))
+}
+
+/// Whether the liquid touched the roof: a roof pressure above [`WET_PRESSURE`] in a row of
+/// the series or at any step (`step_peak`, so that a contact between two rows counts).
+fn touched_roof(names: &[(String, String)], history: &[Vec<f64>], step_peak: f64) -> bool {
+    max_of_column(names, history, "roof_p_max").max(step_peak) > WET_PRESSURE
 }
 
 /// Writes `series.csv` (and its units file) again with every column, the filtered load
