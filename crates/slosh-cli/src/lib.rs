@@ -3,9 +3,12 @@
 
 pub mod bench;
 pub mod build;
+pub mod load_filter;
 pub mod post;
+pub mod progress;
 pub mod roof;
 pub mod runner;
+pub mod shipped_scripts;
 pub mod spectrum;
 pub mod sweep;
 pub mod sweep_plot;

@@ -1,7 +1,7 @@
 //! `slosh`: sloshing loads on storage tanks by SPH. See `slosh --help`.
 
 use anyhow::{bail, Context, Result};
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 use slosh_cli::{run_case, RunOptions};
 use slosh_script::{list_params, load_case, parse_set_value, CaseOptions};
 use std::io::Write;
@@ -195,7 +195,7 @@ fn x86_64_v3_supported() -> bool {
 
 fn main() -> ExitCode {
     exit_unless_cpu_supports_build();
-    let cli = Cli::parse();
+    let cli = parse_command_line();
     let result = match cli.command {
         Command::Run(args) => cmd_run(args),
         Command::Sweep(args) => cmd_sweep(args),
@@ -221,6 +221,15 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// Parses the command line; `slosh run --help` (and `slosh help run`) end with the shipped
+/// case scripts and their purpose.
+fn parse_command_line() -> Cli {
+    let command = Cli::command().mut_subcommand("run", |run| {
+        run.after_help(slosh_cli::shipped_scripts::help_text())
+    });
+    Cli::from_arg_matches(&command.get_matches()).unwrap_or_else(|e| e.exit())
 }
 
 fn set_threads(threads: Option<usize>) -> Result<()> {
@@ -257,11 +266,7 @@ fn parse_sets(sets: &[String]) -> Result<CaseOptions> {
 fn cmd_run(args: RunArgs) -> Result<()> {
     set_threads(args.threads)?;
     if args.list_params {
-        let params = list_params(&args.case)?;
-        println!("{:<24} {:<16} default", "parameter", "type");
-        for p in params {
-            println!("{:<24} {:<16} {}", p.name, p.default.type_name(), p.default);
-        }
+        print!("{}", params_table(&list_params(&args.case)?));
         return Ok(());
     }
     let options = parse_sets(&args.set)?;
@@ -277,6 +282,27 @@ fn cmd_run(args: RunArgs) -> Result<()> {
     };
     run_case(case, &opts)?;
     Ok(())
+}
+
+/// The `--list-params` table: name, type, default, unit and description of each parameter
+/// (`-` for a parameter without a unit, `(not documented)` when the script says nothing).
+fn params_table(params: &[slosh_script::ParamDecl]) -> String {
+    let mut text = format!(
+        "{:<20} {:<10} {:<14} {:<8} description\n",
+        "parameter", "type", "default", "unit"
+    );
+    for p in params {
+        let default = p.default.to_string();
+        text.push_str(&format!(
+            "{:<20} {:<10} {:<14} {:<8} {}\n",
+            p.name,
+            p.default.type_name(),
+            default,
+            p.unit.as_deref().unwrap_or("-"),
+            p.description.as_deref().unwrap_or("(not documented)")
+        ));
+    }
+    text
 }
 
 fn cmd_sweep(args: SweepArgs) -> Result<()> {

@@ -25,6 +25,16 @@ pub fn run_data(summary: &Summary, names: &[(String, String)], history: &[Vec<f6
         ("kurihara_at_max".into(), summary.kurihara_at_max),
         ("malhotra_at_max".into(), summary.malhotra_at_max),
         ("impacts".into(), summary.impacts.len() as f64),
+        (
+            "max_abs_base_shear_x_lp".into(),
+            summary.max_abs_base_shear_x_lp,
+        ),
+        ("max_roof_force_up_lp".into(), summary.max_roof_force_up_lp),
+        ("load_filter_hz".into(), summary.load_filter.cutoff_hz),
+        (
+            "roof_contact".into(),
+            f64::from(u8::from(summary.roof_contact)),
+        ),
     ];
     RunData {
         scalars,

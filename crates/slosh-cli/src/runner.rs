@@ -2,13 +2,15 @@
 //! of DESIGN.md §4 (`series.csv`, `summary.ron`, frames, plots).
 
 use crate::build;
+use crate::load_filter::{add_filtered_columns, LoadFilter, LoadPeak};
+use crate::progress::Progress;
+use crate::roof::WET_PRESSURE;
 use anyhow::{Context, Result};
 use serde::Serialize;
 use slosh_core::{LoadPeaks, PartLoads, Simulation, SoundSpeedRule, SphParams, StepStats, Vector};
 use slosh_io::{FrameSeries, PlotSpec, PointArray, Series, SeriesWriter};
 use slosh_script::{Case, ParamValue, TankSpec};
 use std::collections::VecDeque;
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -17,7 +19,8 @@ use std::time::Instant;
 pub struct RunOptions {
     /// Output folder.
     pub out_dir: PathBuf,
-    /// Show a progress bar when stderr is a terminal.
+    /// Show progress: a bar when stderr is a terminal, otherwise a line every 10 % of the
+    /// simulated time (or 30 s of wall time).
     pub progress: bool,
     /// Print the particle counts and the result line.
     pub verbose: bool,
@@ -146,6 +149,19 @@ pub struct Summary {
     pub post: Vec<(String, ParamValue)>,
     /// The error of the script's `post(run)` when it failed (the run's other outputs stand).
     pub post_error: Option<String>,
+    // Loads as engineers read them, and whether the liquid reached the roof.
+    /// The low-pass filter of the `*_lp` load columns of `series.csv`.
+    pub load_filter: LoadFilter,
+    /// Largest |base_shear_x_lp| over the output rows (N; 2D N/m).
+    pub max_abs_base_shear_x_lp: f64,
+    /// Largest roof_force_up_lp over the output rows (N; 2D N/m).
+    pub max_roof_force_up_lp: f64,
+    /// Peaks of each raw load column of `series.csv` and of its filtered copy.
+    pub load_peaks: Vec<LoadPeak>,
+    /// True when the liquid touched the roof (a time-windowed roof pressure above 1 Pa).
+    pub roof_contact: bool,
+    /// Why there are no roof plots, when there are none.
+    pub roof_note: Option<String>,
 }
 
 /// Closed-form numbers written beside the SPH result.
@@ -369,7 +385,7 @@ fn run_loop<const D: usize>(
     let mut next_output = 0.0;
     let mut next_frame = 0.0;
     let mut pending: VecDeque<PendingRow> = VecDeque::new();
-    let progress = make_progress(opts, duration);
+    let mut progress = Progress::start(opts.progress, &case.name, duration);
     let started = Instant::now();
     let mut failure: Option<anyhow::Error> = None;
     let eps = 1e-9;
@@ -492,17 +508,13 @@ fn run_loop<const D: usize>(
                 complete_row(row, loads, centred, &mut roof, &mut writer, &mut history)?;
             }
         }
-        if let Some(pb) = &progress {
-            pb.set_position((sim.time() * 1000.0) as u64);
-            if sim.steps().is_multiple_of(50) {
-                let el = started.elapsed().as_secs_f64();
-                pb.set_message(format!("{:.0} steps/s", sim.steps() as f64 / el.max(1e-9)));
-            }
+        if let Some(progress) = progress.as_mut() {
+            progress.update(sim.time(), sim.steps(), started);
         }
     }
     let wall_time = started.elapsed().as_secs_f64();
-    if let Some(pb) = &progress {
-        pb.finish_and_clear();
+    if let Some(progress) = &progress {
+        progress.finish();
     }
     // The last N steps: windows cut at the end of the run.
     {
@@ -527,6 +539,12 @@ fn run_loop<const D: usize>(
         }
     }
     writer.flush()?;
+    drop(writer);
+    let omega_1 = theory_numbers(&case.tank, sim.params().gravity).omega_1;
+    let mut load_filter = LoadFilter::new(case.run.load_filter_hz, omega_1);
+    let (cols, load_peaks) = with_filtered_loads(out, cols, &mut history, &mut load_filter)?;
+    let roof_contact =
+        roof.has_roof() && touched_roof(&cols.names, &history, sim.loads().peaks().max_roof_p);
     if let Some(fr) = frames.as_mut() {
         if failure.is_none() {
             write_frame(fr, &sim, sim.time())?;
@@ -649,6 +667,12 @@ fn run_loop<const D: usize>(
         input_spectrum: None,
         post: Vec::new(),
         post_error: None,
+        load_filter,
+        max_abs_base_shear_x_lp: peak_lp(&load_peaks, "base_shear_x"),
+        max_roof_force_up_lp: max_of(col("roof_force_up_lp")).max(0.0),
+        load_peaks,
+        roof_contact,
+        roof_note: roof_note(roof.has_roof(), roof_contact),
     };
     if roof.has_roof() {
         let column = |name: &str| col(name).cloned().unwrap_or_default();
@@ -669,8 +693,8 @@ fn run_loop<const D: usize>(
             summary.kurihara_at_max = top.p_kurihara;
             summary.malhotra_at_max = top.p_malhotra;
         }
-        roof.write(out, opts.plots)?;
-        if opts.plots && summary.max_roof_p > 0.0 {
+        roof.write(out, opts.plots && roof_contact)?;
+        if opts.plots && roof_contact && summary.max_roof_p > 0.0 {
             roof.write_fig7(out, summary.t_max_roof_p, settle)?;
         }
     }
@@ -704,7 +728,7 @@ fn run_loop<const D: usize>(
     }
     slosh_io::write_ron(out.join("summary.ron"), &summary)?;
     if opts.plots {
-        write_plots(out, &cols.names, &history, D)?;
+        write_plots(out, &cols.names, &history, D, &summary)?;
     }
     if let Some(e) = failure {
         return Err(e.context(format!(
@@ -721,18 +745,94 @@ fn run_loop<const D: usize>(
     }
     if opts.verbose {
         eprintln!(
-            "{}: {} steps in {:.1} s ({:.3e} particle-steps/s); max eta_left {:.4} m, max |base shear x| {:.1} {}, max roof p {:.1} Pa",
+            "{}: {} steps in {:.1} s ({:.3e} particle-steps/s); max eta_left {:.4} m, max |base shear x| {:.1} {unit} ({:.1} {unit} low-pass {:.2} Hz), max roof p {:.1} Pa",
             case.name,
             steps,
             wall_time,
             summary.particle_steps_per_s,
             summary.max_eta_left,
             summary.max_abs_base_shear_x,
-            if D == 2 { "N/m" } else { "N" },
-            summary.max_roof_p
+            summary.max_abs_base_shear_x_lp,
+            summary.load_filter.cutoff_hz,
+            summary.max_roof_p,
+            unit = if D == 2 { "N/m" } else { "N" },
         );
+        if let Some(note) = &summary.roof_note {
+            eprintln!("{}: {note}", case.name);
+        }
     }
     Ok(summary)
+}
+
+/// Appends the filtered copies of the load columns to `cols` and `history` and writes
+/// `series.csv` again with them; returns the new column layout and the peaks.
+fn with_filtered_loads(
+    out: &Path,
+    cols: Columns,
+    history: &mut Vec<Vec<f64>>,
+    filter: &mut LoadFilter,
+) -> Result<(Columns, Vec<LoadPeak>)> {
+    let mut names = cols.names.clone();
+    let peaks = add_filtered_columns(filter, &mut names, history);
+    rewrite_series(&out.join("series.csv"), &names, history)?;
+    Ok((Columns { names, ..cols }, peaks))
+}
+
+/// Whether the liquid touched the roof: a roof pressure above [`WET_PRESSURE`] in a row of
+/// the series or at any step (`step_peak`, so that a contact between two rows counts).
+fn touched_roof(names: &[(String, String)], history: &[Vec<f64>], step_peak: f64) -> bool {
+    max_of_column(names, history, "roof_p_max").max(step_peak) > WET_PRESSURE
+}
+
+/// Writes `series.csv` (and its units file) again with every column, the filtered load
+/// columns appended after the raw ones.
+fn rewrite_series(path: &Path, names: &[(String, String)], history: &[Vec<f64>]) -> Result<()> {
+    let mut writer = SeriesWriter::create(path, names)?;
+    let rows = history.first().map_or(0, Vec::len);
+    let mut row = Vec::with_capacity(history.len());
+    for r in 0..rows {
+        row.clear();
+        row.extend(history.iter().map(|c| c[r]));
+        writer.write_row(&row)?;
+    }
+    writer.flush()?;
+    Ok(())
+}
+
+/// Largest finite value of a column (−∞ when it has none or is missing).
+fn max_of_column(names: &[(String, String)], history: &[Vec<f64>], name: &str) -> f64 {
+    names
+        .iter()
+        .position(|(n, _)| n == name)
+        .map(|i| {
+            history[i]
+                .iter()
+                .copied()
+                .filter(|x| x.is_finite())
+                .fold(f64::NEG_INFINITY, f64::max)
+        })
+        .unwrap_or(f64::NEG_INFINITY)
+}
+
+/// The filtered peak of `column` (0 when the run has no such column).
+fn peak_lp(peaks: &[LoadPeak], column: &str) -> f64 {
+    peaks
+        .iter()
+        .find(|p| p.column == column)
+        .map_or(0.0, |p| p.max_abs_lp)
+}
+
+/// What the summary says when there are no roof plots.
+fn roof_note(has_roof: bool, contact: bool) -> Option<String> {
+    match (has_roof, contact) {
+        (false, _) => Some("no roof: the tank is open, no roof loads or roof plots".into()),
+        (true, false) => Some(
+            "no roof contact: the liquid never touched the roof (no roof pressure above 1 Pa); \
+             roof_force.png, roof_pressure.png and roof_pressure_map.png are not drawn"
+                .into(),
+        ),
+        (true, true) => None,
+    }
 }
 
 /// Overturning-moment coefficients c_k of the load points, M = Σ_k p_k c_k: the moment of the
@@ -795,18 +895,6 @@ fn roof_tank(tank: &TankSpec, params: &SphParams, omega_1: f64) -> crate::roof::
         half_width,
         omega: omega_1,
     }
-}
-
-fn make_progress(opts: &RunOptions, duration: f64) -> Option<indicatif::ProgressBar> {
-    if !opts.progress || !std::io::stderr().is_terminal() {
-        return None;
-    }
-    let pb = indicatif::ProgressBar::new((duration * 1000.0) as u64);
-    pb.set_style(
-        indicatif::ProgressStyle::with_template("{bar:40} t = {pos} / {len} ms  {msg}  ETA {eta}")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    Some(pb)
 }
 
 fn write_frame<const D: usize>(
@@ -877,17 +965,14 @@ fn write_plots(
     names: &[(String, String)],
     history: &[Vec<f64>],
     dim: usize,
+    summary: &Summary,
 ) -> Result<()> {
     let plots = out.join("plots");
     std::fs::create_dir_all(&plots)?;
     let find = |n: &str| names.iter().position(|(c, _)| c == n);
     let t = &history[0];
     let force_unit = if dim == 2 { "N/m" } else { "N" };
-    let plot = |file: &str, title: &str, ylabel: String, cols: &[&str]| -> Result<()> {
-        let series: Vec<Series> = cols
-            .iter()
-            .filter_map(|c| find(c).map(|i| Series::line(c.to_string(), t, &history[i])))
-            .collect();
+    let plot = |file: &str, title: &str, ylabel: String, series: Vec<Series>| -> Result<()> {
         if series.is_empty() {
             return Ok(());
         }
@@ -898,35 +983,91 @@ fn write_plots(
         )?;
         Ok(())
     };
+    let lines = |cols: &[&str]| -> Vec<Series> {
+        cols.iter()
+            .filter_map(|c| find(c).map(|i| Series::line(c.to_string(), t, &history[i])))
+            .collect()
+    };
+    let gauges: Vec<&str> = names
+        .iter()
+        .map(|(n, _)| n.as_str())
+        .filter(|n| n.starts_with("eta_"))
+        .collect();
     plot(
         "eta",
-        "Free-surface elevation at the walls",
+        "Free-surface elevation at the walls and gauges",
         "elevation η [m]".into(),
-        &["eta_left", "eta_right"],
+        lines(&gauges),
     )?;
     plot(
         "base_shear",
         "Base shear (fluid on walls and bottom)",
         format!("base shear [{force_unit}]"),
-        &["base_shear_x", "base_shear_y"],
+        raw_and_filtered(
+            &["base_shear_x", "base_shear_y"],
+            &find,
+            t,
+            history,
+            summary.load_filter.cutoff_hz,
+        ),
     )?;
-    plot(
-        "roof_force",
-        "Upward force on the roof",
-        format!("roof force [{force_unit}]"),
-        &["roof_force_up"],
-    )?;
-    plot(
-        "roof_pressure",
-        "Largest roof pressure",
-        "pressure [Pa]".into(),
-        &["roof_p_max"],
-    )?;
+    if summary.roof_contact {
+        plot(
+            "roof_force",
+            "Upward force on the roof",
+            format!("roof force [{force_unit}]"),
+            raw_and_filtered(
+                &["roof_force_up"],
+                &find,
+                t,
+                history,
+                summary.load_filter.cutoff_hz,
+            ),
+        )?;
+        plot(
+            "roof_pressure",
+            "Largest roof pressure",
+            "pressure [Pa]".into(),
+            lines(&["roof_p_max"]),
+        )?;
+    }
     plot(
         "ground_accel",
         "Ground acceleration",
         "acceleration [m/s²]".into(),
-        &["accel_x"],
+        lines(&["accel_x"]),
     )?;
     Ok(())
+}
+
+/// Each raw column (light) with its low-pass copy (dark) on top, labelled for the legend.
+fn raw_and_filtered<'a>(
+    columns: &[&str],
+    find: &dyn Fn(&str) -> Option<usize>,
+    t: &'a [f64],
+    history: &'a [Vec<f64>],
+    cutoff_hz: f64,
+) -> Vec<Series<'a>> {
+    const RAW: [(u8, u8, u8); 2] = [(160, 190, 230), (240, 190, 150)];
+    const FILTERED: [(u8, u8, u8); 2] = [(20, 60, 160), (190, 80, 10)];
+    let mut raw = Vec::new();
+    let mut filtered = Vec::new();
+    for (k, column) in columns.iter().enumerate() {
+        let (Some(i), Some(j)) = (find(column), find(&format!("{column}_lp"))) else {
+            continue;
+        };
+        let (r, g, b) = RAW[k % 2];
+        raw.push(Series::line(format!("{column} (raw)"), t, &history[i]).with_color(r, g, b));
+        let (r, g, b) = FILTERED[k % 2];
+        filtered.push(
+            Series::line(
+                format!("{column}_lp (low-pass {cutoff_hz:.2} Hz)"),
+                t,
+                &history[j],
+            )
+            .with_color(r, g, b),
+        );
+    }
+    raw.extend(filtered);
+    raw
 }

@@ -207,6 +207,34 @@ fn blow_up_keeps_outputs_and_says_when() {
 }
 
 #[test]
+fn set_twice_names_the_parameter() {
+    let dir = temp("set_twice");
+    let case = small_case(&dir, "0.0", "");
+    let (ok, err) = run(&[
+        "run",
+        case.to_str().unwrap(),
+        "--set",
+        "depth=0.2",
+        "--set",
+        "depth=0.3",
+        "--quiet",
+    ]);
+    assert!(!ok);
+    assert!(err.contains("--set depth is given twice"), "{err}");
+}
+
+#[test]
+fn non_finite_set_value_is_refused() {
+    let dir = temp("set_inf");
+    let case = small_case(&dir, "0.0", "");
+    for value in ["duration=inf", "depth=nan"] {
+        let (ok, err) = run(&["run", case.to_str().unwrap(), "--set", value, "--quiet"]);
+        assert!(!ok);
+        assert!(err.contains("must be a finite number"), "{err}");
+    }
+}
+
+#[test]
 fn list_params_prints_the_declared_parameters() {
     let out = slosh()
         .args([
@@ -236,6 +264,11 @@ fn list_params_prints_the_declared_parameters() {
     ] {
         assert!(text.contains(name), "missing {name} in\n{text}");
     }
+    let width = text.lines().find(|l| l.starts_with("width ")).unwrap();
+    assert!(
+        width.contains(" m ") && width.contains("inner tank width"),
+        "unit and description: {width}"
+    );
 }
 
 /// A `post(run)` that throws reports the script line and keeps the run's other outputs.
@@ -260,4 +293,22 @@ fn failing_post_reports_the_line_and_keeps_outputs() {
     assert!(out.join("series.csv").exists());
     let summary = std::fs::read_to_string(out.join("summary.ron")).unwrap();
     assert!(summary.contains("post_error: Some("), "{summary}");
+}
+
+/// `slosh run --help` and `slosh help run` list the shipped scripts with their purpose, found
+/// from the executable's repository when the current folder has no `scripts/`.
+#[test]
+fn run_help_lists_the_shipped_scripts() {
+    let elsewhere = temp("help_elsewhere");
+    for args in [["run", "--help"], ["help", "run"]] {
+        let out = slosh().args(args).current_dir(&elsewhere).output().unwrap();
+        assert!(out.status.success());
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            text.contains("paper_2d_sloshing.rhai")
+                && text.contains("Paper §3.1: resonant sloshing"),
+            "{args:?}: {text}"
+        );
+        assert!(text.contains("cylinder_3d.rhai"), "{text}");
+    }
 }

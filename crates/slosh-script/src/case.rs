@@ -249,9 +249,20 @@ fn evaluate(path: &Path, options: &CaseOptions) -> Result<Evaluated, ScriptError
         file: path.display().to_string(),
         source: e,
     })?;
-    let mut declared = Declared::default();
+    let mut declared = Declared {
+        source_lines: source.lines().map(str::to_string).collect(),
+        ..Declared::default()
+    };
     for (name, value) in &options.overrides {
-        declared.overrides.insert(name.clone(), value.clone());
+        if let Some(first) = declared.overrides.insert(name.clone(), value.clone()) {
+            return Err(ScriptError::case(
+                path,
+                format!(
+                    "--set {name} is given twice ({name}={first} and {name}={value}); \
+                     give each parameter once"
+                ),
+            ));
+        }
     }
     let shared: Shared = Arc::new(Mutex::new(declared));
     let globals: Globals = Arc::new(RwLock::new(Default::default()));

@@ -1,8 +1,8 @@
 //! The sandboxed Rhai engine and the host functions a case script may call.
 
-use crate::params::{ParamDecl, ParamValue};
+use crate::params::{split_unit, trailing_comment, ParamDecl, ParamValue};
 use crate::spec::{dynamic_to_f64, GaugeSpec};
-use rhai::{Dynamic, Engine, EvalAltResult, Map, Position};
+use rhai::{Dynamic, Engine, EvalAltResult, Map, NativeCallContext, Position};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Component, Path, PathBuf};
 use std::sync::{Arc, Mutex, RwLock};
@@ -14,6 +14,8 @@ pub(crate) struct Declared {
     pub overrides: BTreeMap<String, ParamValue>,
     /// Declared parameters in declaration order.
     pub params: Vec<ParamDecl>,
+    /// The script's source lines, for the trailing comments that document parameters.
+    pub source_lines: Vec<String>,
     /// `case(#{...})` map.
     pub case: Option<Map>,
     /// `tank(#{...})` map.
@@ -90,31 +92,22 @@ pub(crate) fn build_engine(shared: Shared, globals: Globals, script_dir: PathBuf
     let s = shared.clone();
     engine.register_fn(
         "param",
-        move |name: &str, default: Dynamic| -> Result<Dynamic, Box<EvalAltResult>> {
-            let mut d = s.lock().map_err(|_| runtime_error("internal lock"))?;
-            if let Some(p) = d.params.iter().find(|p| p.name == name) {
-                return Ok(p.value.to_dynamic());
-            }
-            let default = ParamValue::from_dynamic(&default).ok_or_else(|| {
-                runtime_error(format!(
-                    "param(\"{name}\", …): the default must be a number, true/false or a string"
-                ))
-            })?;
-            let (value, overridden) = match d.overrides.remove(name) {
-                Some(v) => (
-                    v.coerce_to(&default)
-                        .map_err(|e| runtime_error(format!("--set {name}: {e}")))?,
-                    true,
-                ),
-                None => (default.clone(), false),
-            };
-            d.params.push(ParamDecl {
-                name: name.to_string(),
-                default,
-                value: value.clone(),
-                overridden,
-            });
-            Ok(value.to_dynamic())
+        move |ctx: NativeCallContext,
+              name: &str,
+              default: Dynamic|
+              -> Result<Dynamic, Box<EvalAltResult>> {
+            declare_param(&s, name, default, None, ctx.call_position())
+        },
+    );
+    let s = shared.clone();
+    engine.register_fn(
+        "param",
+        move |ctx: NativeCallContext,
+              name: &str,
+              default: Dynamic,
+              doc: &str|
+              -> Result<Dynamic, Box<EvalAltResult>> {
+            declare_param(&s, name, default, Some(doc), ctx.call_position())
         },
     );
     let s = shared.clone();
@@ -238,6 +231,55 @@ pub(crate) fn build_engine(shared: Shared, globals: Globals, script_dir: PathBuf
     // File access for later host functions: relative to the script's folder only.
     crate::motion_api::register_motion_api(&mut engine, script_dir, motions);
     engine
+}
+
+/// `param(name, default[, doc])`: declares a parameter (once; later calls return its value),
+/// applies a `--set` override, and documents it from `doc` or the trailing comment of the
+/// script line at `position`.
+fn declare_param(
+    s: &Shared,
+    name: &str,
+    default: Dynamic,
+    doc: Option<&str>,
+    position: Position,
+) -> Result<Dynamic, Box<EvalAltResult>> {
+    let mut d = s.lock().map_err(|_| runtime_error("internal lock"))?;
+    if let Some(p) = d.params.iter().find(|p| p.name == name) {
+        return Ok(p.value.to_dynamic());
+    }
+    let default = ParamValue::from_dynamic(&default).ok_or_else(|| {
+        runtime_error(format!(
+            "param(\"{name}\", …): the default must be a number, true/false or a string"
+        ))
+    })?;
+    let (value, overridden) = match d.overrides.remove(name) {
+        Some(v) => (
+            v.coerce_to(&default)
+                .map_err(|e| runtime_error(format!("--set {name}: {e}")))?,
+            true,
+        ),
+        None => (default.clone(), false),
+    };
+    let doc = doc.map(str::to_string).or_else(|| {
+        let line = d.source_lines.get(position.line()?.checked_sub(1)?)?;
+        trailing_comment(line).map(str::to_string)
+    });
+    let (unit, description) = match doc {
+        Some(text) => {
+            let (unit, description) = split_unit(&text);
+            (unit, (!description.is_empty()).then_some(description))
+        }
+        None => (None, None),
+    };
+    d.params.push(ParamDecl {
+        name: name.to_string(),
+        default,
+        value: value.clone(),
+        overridden,
+        unit,
+        description,
+    });
+    Ok(value.to_dynamic())
 }
 
 fn add_gauge(s: &Shared, name: &str, horizontal: Vec<f64>) -> Result<(), Box<EvalAltResult>> {

@@ -61,6 +61,11 @@ impl ParamValue {
 
     /// Converts a `--set` value to the type of `default`, or explains why it cannot.
     pub fn coerce_to(&self, default: &ParamValue) -> Result<ParamValue, String> {
+        if let ParamValue::Float(x) = self {
+            if !x.is_finite() && !matches!(default, ParamValue::Str(_)) {
+                return Err(format!("must be a finite number (got {x})"));
+            }
+        }
         match (default, self) {
             (ParamValue::Float(_), ParamValue::Float(_)) => Ok(self.clone()),
             (ParamValue::Float(_), ParamValue::Int(i)) => Ok(ParamValue::Float(*i as f64)),
@@ -125,6 +130,65 @@ pub struct ParamDecl {
     pub value: ParamValue,
     /// True when `--set` changed it.
     pub overridden: bool,
+    /// Unit, from the parameter's documentation (e.g. `m`, `rad/s`); `None` when it has none.
+    pub unit: Option<String>,
+    /// What the parameter is, from the third argument of `param` or the trailing `//`
+    /// comment of its line; `None` when the script says nothing.
+    pub description: Option<String>,
+}
+
+/// The text after `//` on a line of script source, outside string literals.
+pub fn trailing_comment(line: &str) -> Option<&str> {
+    let bytes = line.as_bytes();
+    let mut quote: Option<u8> = None;
+    let mut i = 0;
+    while i < bytes.len() {
+        let b = bytes[i];
+        match quote {
+            Some(_) if b == b'\\' => i += 1,
+            Some(q) if b == q => quote = None,
+            Some(_) => {}
+            None if b == b'"' || b == b'`' || b == b'\'' => quote = Some(b),
+            None if b == b'/' && bytes.get(i + 1) == Some(&b'/') => {
+                let text = line[i + 2..].trim();
+                return (!text.is_empty()).then_some(text);
+            }
+            None => {}
+        }
+        i += 1;
+    }
+    None
+}
+
+/// Splits a parameter's documentation into its unit and its description: the unit is the
+/// first parenthesised group that reads as a unit symbol (`(m)`, `(rad/s)`, `(m/s²)`,
+/// `(Pa)`); it is taken out of the description.
+pub fn split_unit(doc: &str) -> (Option<String>, String) {
+    let mut search_from = 0;
+    while let Some(open) = doc[search_from..].find('(').map(|k| k + search_from) {
+        let Some(close) = doc[open..].find(')').map(|k| k + open) else {
+            break;
+        };
+        let inner = &doc[open + 1..close];
+        if looks_like_unit(inner) {
+            let before = doc[..open].trim_end();
+            let after = &doc[close + 1..];
+            let description = format!("{before}{after}").trim().to_string();
+            return (Some(inner.to_string()), description);
+        }
+        search_from = close + 1;
+    }
+    (None, doc.trim().to_string())
+}
+
+/// A unit symbol: short, no spaces, made of letters, digits and `/ ² ³ · ^ - *`, and not a
+/// bare number.
+fn looks_like_unit(text: &str) -> bool {
+    let allowed = |c: char| c.is_alphabetic() || c.is_ascii_digit() || "/²³·^-*%".contains(c);
+    !text.is_empty()
+        && text.chars().count() <= 10
+        && text.chars().all(allowed)
+        && text.chars().any(|c| c.is_alphabetic() || c == '%')
 }
 
 #[cfg(test)]
@@ -152,5 +216,58 @@ mod tests {
         assert!(parse_set_value("2.5")
             .coerce_to(&ParamValue::Int(1))
             .is_err());
+    }
+
+    #[test]
+    fn non_finite_numbers_are_refused_for_numeric_parameters() {
+        for text in ["inf", "-inf", "nan", "NaN", "infinity"] {
+            let err = parse_set_value(text)
+                .coerce_to(&ParamValue::Float(1.0))
+                .unwrap_err();
+            assert!(err.contains("must be a finite number"), "{text}: {err}");
+        }
+        assert_eq!(
+            parse_set_value("inf").coerce_to(&ParamValue::Str("a".into())),
+            Ok(ParamValue::Str("inf".into()))
+        );
+    }
+
+    #[test]
+    fn trailing_comments_skip_strings() {
+        assert_eq!(
+            trailing_comment(r#"let w = param("width", 1.0);   // inner width (m)"#),
+            Some("inner width (m)")
+        );
+        assert_eq!(
+            trailing_comment(r#"let u = param("url", "http://x");"#),
+            None
+        );
+        assert_eq!(trailing_comment("let a = 1; //"), None);
+    }
+
+    #[test]
+    fn the_unit_is_the_first_unit_like_group() {
+        assert_eq!(
+            split_unit("inner tank width 2l (m)"),
+            (Some("m".into()), "inner tank width 2l".into())
+        );
+        assert_eq!(
+            split_unit("fixed time step (s), ≤ the CFL bound; 0 = CFL-variable"),
+            (
+                Some("s".into()),
+                "fixed time step, ≤ the CFL bound; 0 = CFL-variable".into()
+            )
+        );
+        assert_eq!(
+            split_unit("\"offset\" (exact block) or \"paper\" (1,974 particles)"),
+            (
+                None,
+                "\"offset\" (exact block) or \"paper\" (1,974 particles)".into()
+            )
+        );
+        assert_eq!(
+            split_unit("excitation circular frequency ω (rad/s)").0,
+            Some("rad/s".into())
+        );
     }
 }

@@ -243,6 +243,9 @@ pub struct RunSpec {
     pub output_interval: f64,
     /// Interval of particle frames (s); 0 = no frames.
     pub frame_interval: f64,
+    /// Cut-off of the low-pass filter of the `*_lp` load columns (Hz); `None` = ten times
+    /// the tank's first sloshing frequency.
+    pub load_filter_hz: Option<f64>,
 }
 
 impl RunSpec {
@@ -253,6 +256,7 @@ impl RunSpec {
             duration: r.f64_or("duration", 12.0)?,
             output_interval: r.f64_or("output_interval", 0.01)?,
             frame_interval: r.f64_or("frame_interval", 0.0)?,
+            load_filter_hz: r.opt_f64("load_filter_hz")?,
         };
         r.finish()?;
         if !(spec.duration.is_finite() && spec.duration > 0.0) {
@@ -276,6 +280,14 @@ impl RunSpec {
                 spec.frame_interval
             ));
         }
+        if let Some(f) = spec.load_filter_hz {
+            if !(f.is_finite() && f > 0.0) {
+                return Err(format!(
+                    "run: load_filter_hz must be a cut-off frequency > 0 Hz (got {f}); leave it \
+                     out for ten times the first sloshing frequency"
+                ));
+            }
+        }
         Ok(spec)
     }
 }
@@ -287,6 +299,7 @@ impl Default for RunSpec {
             duration: 12.0,
             output_interval: 0.01,
             frame_interval: 0.0,
+            load_filter_hz: None,
         }
     }
 }
@@ -654,8 +667,14 @@ mod tests {
         );
         assert_eq!(r, Resolution::PerDepth(20.0));
         for bad in [
-            vec![("eos_b", Dynamic::from(1e5)), ("sound_speed", Dynamic::from(20.0))],
-            vec![("dx", Dynamic::from(0.1)), ("particles_per_radius", Dynamic::from(10.0))],
+            vec![
+                ("eos_b", Dynamic::from(1e5)),
+                ("sound_speed", Dynamic::from(20.0)),
+            ],
+            vec![
+                ("dx", Dynamic::from(0.1)),
+                ("particles_per_radius", Dynamic::from(10.0)),
+            ],
             vec![("eos_b", Dynamic::from(-1.0))],
             vec![("sound_speed_coefficient", Dynamic::from(0.0))],
         ] {
