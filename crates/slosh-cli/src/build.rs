@@ -100,10 +100,12 @@ pub fn fit_to_lattice(tank: &TankSpec, dx: f64) -> Result<FittedTank> {
         }
         TankSpec::Cylinder { .. } => dx,
     };
-    // Keep a fill that was at the shell top within the fitted shell.
+    // Keep a fill that was within the shell within the fitted shell (a fill above the shell
+    // as given is the geometry's error to report).
+    let fill_fitted_shell = tank.depth() <= tank_height(tank);
     match &mut fitted {
         TankSpec::Rect { height, depth, .. } | TankSpec::Box { height, depth, .. } => {
-            if *depth > *height {
+            if fill_fitted_shell && *depth > *height {
                 notes.push(format!(
                     "fill depth {depth} m → {height} m (the fitted shell top)"
                 ));
@@ -117,6 +119,15 @@ pub fn fit_to_lattice(tank: &TankSpec, dx: f64) -> Result<FittedTank> {
         dx,
         notes,
     })
+}
+
+/// The shell height of a tank (m).
+fn tank_height(tank: &TankSpec) -> f64 {
+    match tank {
+        TankSpec::Rect { height, .. }
+        | TankSpec::Box { height, .. }
+        | TankSpec::Cylinder { height, .. } => *height,
+    }
 }
 
 /// Builds the 2D particles of a 2D tank.

@@ -13,7 +13,7 @@ fn elcentro_2d_applies_the_scaled_record() {
         .join(format!("elcentro-input-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out);
     let (settle, pga) = (2.0, 3.0);
-    // dx = 0.1 m (300 fluid particles) and a fixed dt = 1 ms that divides the output interval
+    // dx = 0.1 m (300 fluid particles) and a fixed dt = 0.5 ms that divides the output interval
     // and the record's 0.02 s, so the rows fall on the record's samples; 2.5 s of the record
     // cover its peak at 2.02 s.
     let status = Command::new(env!("CARGO_BIN_EXE_slosh"))
@@ -25,7 +25,7 @@ fn elcentro_2d_applies_the_scaled_record() {
             "--set",
             "dx=0.1",
             "--set",
-            "dt=0.001",
+            "dt=0.0005",
             "--set",
             "duration=4.5",
         ])

@@ -206,10 +206,16 @@ impl Case {
         self.tank.dim()
     }
 
-    /// U_ref of the sound-speed rule (m/s): the largest speed of the tank relative to the
-    /// liquid at rest, estimated as half the peak-to-peak of the ground velocity (the
-    /// excitation integrated from rest, per component) over the excitation. For a sine
-    /// A ω² sin ωt it is A ω. Samples `ground_accel` every 5 ms or finer.
+    /// U_ref of the sound-speed rule (m/s): an upper estimate of the liquid's speed relative
+    /// to the tank that the excitation can cause, the smaller of two bounds:
+    /// - half the peak-to-peak of the ground velocity (the excitation integrated from rest,
+    ///   per component): the tank cannot outrun the liquid at rest by more (A ω for a sine
+    ///   A ω² sin ωt);
+    /// - √(2 a_max L), L the tank's largest horizontal size and a_max the largest ground
+    ///   acceleration: the speed the liquid gains falling across the tank under the largest
+    ///   body force (a drifting or step excitation has no velocity bound).
+    ///
+    /// Samples `ground_accel` every 5 ms or finer over the excitation.
     pub fn excitation_speed(&mut self) -> Result<f64, ScriptError> {
         let span = (self.run.duration - self.run.settle).max(0.0);
         if !self.excitation.has_ground_accel() || span <= 0.0 {
@@ -221,16 +227,20 @@ impl Case {
         let mut low = [0.0f64; 3];
         let mut high = [0.0f64; 3];
         let mut previous = self.excitation.ground_accel(0.0)?;
+        let mut a_max = previous.iter().fold(0.0f64, |m, a| m.max(a.abs()));
         for i in 1..=n {
             let a = self.excitation.ground_accel(i as f64 * dt)?;
             for k in 0..3 {
                 velocity[k] += 0.5 * dt * (a[k] + previous[k]);
                 low[k] = low[k].min(velocity[k]);
                 high[k] = high[k].max(velocity[k]);
+                a_max = a_max.max(a[k].abs());
             }
             previous = a;
         }
-        Ok((0..3).map(|k| 0.5 * (high[k] - low[k])).fold(0.0, f64::max))
+        let ground = (0..3).map(|k| 0.5 * (high[k] - low[k])).fold(0.0, f64::max);
+        let across = (2.0 * a_max * self.tank.horizontal_size()).sqrt();
+        Ok(ground.min(across))
     }
 }
 

@@ -182,6 +182,18 @@ impl TankSpec {
         }
     }
 
+    /// Largest horizontal inner size (m): a section's width, a box's length or breadth, a
+    /// cylinder's diameter.
+    pub fn horizontal_size(&self) -> f64 {
+        match self {
+            TankSpec::Rect { width, .. } => *width,
+            TankSpec::Box {
+                length, breadth, ..
+            } => length.max(*breadth),
+            TankSpec::Cylinder { radius, .. } => 2.0 * radius,
+        }
+    }
+
     /// Space dimension of the tank (2 or 3).
     pub fn dim(&self) -> usize {
         match self {
