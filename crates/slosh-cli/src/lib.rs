@@ -7,6 +7,7 @@ pub mod load_filter;
 pub mod post;
 pub mod progress;
 pub mod roof;
+pub mod run_folder;
 pub mod runner;
 pub mod shipped_scripts;
 pub mod spectrum;

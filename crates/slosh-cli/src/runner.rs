@@ -5,7 +5,7 @@ use crate::build;
 use crate::load_filter::{add_filtered_columns, LoadFilter, LoadPeak};
 use crate::progress::Progress;
 use crate::roof::WET_PRESSURE;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use serde::Serialize;
 use slosh_core::{LoadPeaks, PartLoads, Simulation, SoundSpeedRule, SphParams, StepStats, Vector};
 use slosh_io::{FrameSeries, PlotSpec, PointArray, Series, SeriesWriter};
@@ -128,8 +128,10 @@ pub struct Summary {
     pub max_mach: f64,
     /// Steps with a Mach number above 0.1.
     pub steps_above_mach_limit: u64,
-    /// Warnings about the run's numerics (also printed on stderr).
+    /// Warnings about the run's numerics and outputs (also printed on stderr).
     pub warnings: Vec<String>,
+    /// Outputs that could not be written (plots, roof map, post-processing files), with why.
+    pub output_errors: Vec<String>,
     /// Still-water level the elevations are measured from (m): the fill level lowered by the
     /// EOS compression of the liquid under its own weight.
     pub still_level: f64,
@@ -236,8 +238,17 @@ fn columns(dim: usize, gauges: &[slosh_script::GaugeSpec]) -> Columns {
 
 /// Runs a case to the end (or to a blow-up, keeping what was written) and returns the summary.
 pub fn run_case(mut case: Case, opts: &RunOptions) -> Result<Summary> {
-    std::fs::create_dir_all(&opts.out_dir)
-        .with_context(|| format!("cannot create the output folder {}", opts.out_dir.display()))?;
+    // Held until the run's outputs are complete.
+    let folder = crate::run_folder::RunFolder::claim(&opts.out_dir, &case.name, &case.script)?;
+    let result = build_and_run(&mut case, opts);
+    if let Err(e) = &result {
+        folder.mark_failed_if_running(&format!("{e:#}"));
+    }
+    result
+}
+
+/// Fits, builds and runs a claimed case.
+fn build_and_run(case: &mut Case, opts: &RunOptions) -> Result<Summary> {
     let script_dir = case
         .script
         .parent()
@@ -256,14 +267,33 @@ pub fn run_case(mut case: Case, opts: &RunOptions) -> Result<Summary> {
         2 => {
             let setup = build::build_2d(&fit.tank, fit.dx)?;
             let sim = Simulation::<2>::new(setup, sph)?;
-            run_loop(sim, &mut case, fit, opts)
+            run_loop(sim, case, fit, opts)
         }
         _ => {
             let setup = build::build_3d(&fit.tank, fit.dx, &script_dir)?;
             let sim = Simulation::<3>::new(setup, sph)?;
-            run_loop(sim, &mut case, fit, opts)
+            run_loop(sim, case, fit, opts)
         }
     }
+}
+
+/// Bytes of one particle in a frame file (positions, velocity, pressure, density, kind, part,
+/// id, as written by `slosh_io::FrameSeries`), for the size warning.
+const FRAME_BYTES_PER_PARTICLE: f64 = 80.0;
+/// Frame volume (bytes) above which a run is warned.
+const FRAME_VOLUME_WARNING: f64 = 2.0e9;
+
+/// A warning when the frames of a run would fill more than [`FRAME_VOLUME_WARNING`] bytes.
+fn frame_volume_warning(duration: f64, frame_interval: f64, particles: usize) -> Option<String> {
+    let frames = (duration / frame_interval).floor() + 1.0;
+    let bytes = frames * particles as f64 * FRAME_BYTES_PER_PARTICLE;
+    (bytes > FRAME_VOLUME_WARNING).then(|| {
+        format!(
+            "the frames of this run (one every {frame_interval:.3e} s, ≈ {frames:.0} frames \
+             of {particles} particles) fill ≈ {:.1} GB; raise frame_interval (0 = no frames)",
+            bytes / 1e9
+        )
+    })
 }
 
 /// The tank as simulated: the fitted dimensions with the fill depth the lattice holds
@@ -367,6 +397,13 @@ fn run_loop<const D: usize>(
     let mut writer = SeriesWriter::create(out.join("series.csv"), &cols.names)?;
     let mut history: Vec<Vec<f64>> = vec![Vec::new(); cols.names.len()];
     let mut frames = if case.run.frame_interval > 0.0 {
+        // A frame is written at most once per step; the step is about C h / c0.
+        let step = sim.params().cfl_number * sim.smoothing_length() / sim.sound_speed();
+        let interval = case.run.frame_interval.max(step);
+        if let Some(w) = frame_volume_warning(case.run.duration, interval, n_fluid0 + n_wall) {
+            eprintln!("warning: {w}");
+            warnings.push(w);
+        }
         Some(FrameSeries::new(out.join("frames")))
     } else {
         None
@@ -660,6 +697,7 @@ fn run_loop<const D: usize>(
         max_mach: stats.max_mach,
         steps_above_mach_limit: stats.steps_above_mach_limit,
         warnings,
+        output_errors: Vec::new(),
         impacts: Vec::new(),
         kurihara_at_max: 0.0,
         malhotra_at_max: 0.0,
@@ -693,9 +731,15 @@ fn run_loop<const D: usize>(
             summary.kurihara_at_max = top.p_kurihara;
             summary.malhotra_at_max = top.p_malhotra;
         }
-        roof.write(out, opts.plots && roof_contact)?;
+        if let Err(e) = roof.write(out, opts.plots && roof_contact) {
+            summary
+                .output_errors
+                .push(format!("roof pressure map: {e:#}"));
+        }
         if opts.plots && roof_contact && summary.max_roof_p > 0.0 {
-            roof.write_fig7(out, summary.t_max_roof_p, settle)?;
+            if let Err(e) = roof.write_fig7(out, summary.t_max_roof_p, settle) {
+                summary.output_errors.push(format!("Fig. 7 plots: {e:#}"));
+            }
         }
     }
     if failure.is_none() {
@@ -718,7 +762,11 @@ fn run_loop<const D: usize>(
         match case.excitation.post(&data) {
             Ok(result) => {
                 summary.post = result.values.clone();
-                crate::post::write_post_outputs(out, &result)?;
+                if let Err(e) = crate::post::write_post_outputs(out, &result) {
+                    summary
+                        .output_errors
+                        .push(format!("post(run) tables and plots: {e:#}"));
+                }
             }
             Err(e) => {
                 summary.post_error = Some(e.to_string());
@@ -726,16 +774,26 @@ fn run_loop<const D: usize>(
             }
         }
     }
-    slosh_io::write_ron(out.join("summary.ron"), &summary)?;
     if opts.plots {
-        write_plots(out, &cols.names, &history, D, &summary)?;
+        if let Err(e) = write_plots(out, &cols.names, &history, D, &summary) {
+            summary.output_errors.push(format!("plots: {e:#}"));
+        }
     }
+    slosh_io::write_ron(out.join("summary.ron"), &summary)?;
     if let Some(e) = failure {
         return Err(e.context(format!(
             "the run stopped at t = {:.4} s; the outputs written so far are in {}",
             sim.time(),
             out.display()
         )));
+    }
+    if !summary.output_errors.is_empty() {
+        anyhow::bail!(
+            "the run completed, but some outputs could not be written ({}); summary.ron and \
+             series.csv are in {}",
+            summary.output_errors.join("; "),
+            out.display()
+        );
     }
     if let Some(e) = post_error {
         return Err(anyhow::Error::new(e).context(format!(

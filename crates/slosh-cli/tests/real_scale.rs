@@ -67,11 +67,16 @@ fn paper_stiffness_in_a_real_tank_is_refused() {
         0.05,
         "0.0",
     );
-    let (ok, err, _) = run(&c, &dir.join("out"));
+    let (ok, err, summary) = run(&c, &dir.join("out"));
     assert!(!ok);
     assert!(
         err.contains("compressed by 6.") && err.contains("allow_compressible"),
         "{err}"
+    );
+    // The folder's summary says why, not "running".
+    assert!(
+        summary.contains("status: \"failed\"") && summary.contains("compressed by 6."),
+        "{summary}"
     );
     let c = case(
         &dir,
@@ -195,4 +200,110 @@ fn resolution_per_depth_and_lattice_fit() {
     );
     let (ok, err, _) = run(&c, &dir.join("out4"));
     assert!(!ok && err.contains("give one of dx"), "{err}");
+}
+
+// ----- the run folder -----
+
+/// A folder whose lock is held by a live process is refused with that process's id; the
+/// folder's files stay as they are.
+#[test]
+fn locked_folder_is_refused_with_the_holder() {
+    let dir = temp("locked");
+    let c = case(
+        &dir,
+        "width: 0.4, height: 0.4, depth: 0.2",
+        "dx: 0.04",
+        0.02,
+        "0.0",
+    );
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let mut holder = Command::new("sleep").arg("30").spawn().unwrap();
+    std::fs::write(out.join(".slosh.lock"), holder.id().to_string()).unwrap();
+    let (ok, err, _) = run(&c, &out);
+    let _ = holder.kill();
+    let _ = holder.wait();
+    assert!(!ok);
+    assert!(err.contains(&format!("pid {}", holder.id())), "{err}");
+    // Once the holder is gone its lock is stale and the run takes the folder.
+    let (ok, err, summary) = run(&c, &out);
+    assert!(ok, "{err}");
+    assert!(summary.contains("status: \"completed\""));
+    assert!(!out.join(".slosh.lock").exists());
+}
+
+/// A rerun in a folder of an earlier run removes that run's outputs first (its summary,
+/// plots, frames), and a folder of someone else's files is refused untouched.
+#[test]
+fn earlier_run_outputs_are_removed_and_foreign_folders_refused() {
+    let dir = temp("rerun");
+    let c = case(
+        &dir,
+        "width: 0.4, height: 0.4, depth: 0.2",
+        "dx: 0.04",
+        0.02,
+        "0.0",
+    );
+    let out = dir.join("out");
+    for d in ["plots", "frames"] {
+        std::fs::create_dir_all(out.join(d)).unwrap();
+    }
+    std::fs::write(
+        out.join("summary.ron"),
+        "(status: \"completed\", case: \"old\")",
+    )
+    .unwrap();
+    std::fs::write(out.join("plots/fig7_a.png"), "old").unwrap();
+    std::fs::write(out.join("frames/frame_000999.vtp"), "old").unwrap();
+    let (ok, err, summary) = run(&c, &out);
+    assert!(ok, "{err}");
+    assert!(!summary.contains("\"old\""), "{summary}");
+    assert!(!out.join("plots/fig7_a.png").exists());
+    assert!(!out.join("frames").exists());
+    let foreign = dir.join("mine");
+    std::fs::create_dir_all(&foreign).unwrap();
+    std::fs::write(foreign.join("notes.txt"), "keep").unwrap();
+    let (ok, err, _) = run(&c, &foreign);
+    assert!(!ok && err.contains("notes.txt"), "{err}");
+    assert_eq!(
+        std::fs::read_to_string(foreign.join("notes.txt")).unwrap(),
+        "keep"
+    );
+}
+
+/// A frame interval far below the time step would write a frame every step: warned with the
+/// volume.
+#[test]
+fn tiny_frame_interval_is_warned() {
+    let dir = temp("frames");
+    let script = "tank(#{ shape: \"rect\", width: 2.0, height: 1.2, depth: 1.0 });\n\
+                  numerics(#{ dx: 0.01 });\n\
+                  run(#{ settle: 0.0, duration: 1000.0, output_interval: 0.01, frame_interval: 1e-9 });\n";
+    let path = dir.join("case.rhai");
+    std::fs::write(&path, script).unwrap();
+    // The warning comes before the first step; stop the run as soon as it is printed.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_slosh"))
+        .args(["run", path.to_str().unwrap(), "--out"])
+        .arg(dir.join("out"))
+        .arg("--quiet")
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stderr = child.stderr.take().unwrap();
+    let mut text = String::new();
+    let mut buf = [0u8; 4096];
+    use std::io::Read;
+    while !text.contains("GB") {
+        let n = stderr.read(&mut buf).unwrap_or(0);
+        if n == 0 {
+            break;
+        }
+        text.push_str(&String::from_utf8_lossy(&buf[..n]));
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    assert!(
+        text.contains("warning: the frames of this run") && text.contains("GB"),
+        "{text}"
+    );
 }
