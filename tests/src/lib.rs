@@ -36,6 +36,7 @@ pub fn run_script(script: &str, sets: &[&str], out: &Path) -> anyhow::Result<Sum
             progress: false,
             verbose: false,
             plots: false,
+            max_memory_bytes: None,
         },
     )
 }

@@ -4,6 +4,7 @@
 pub mod bench;
 pub mod build;
 pub mod load_filter;
+pub mod memory;
 pub mod post;
 pub mod progress;
 pub mod roof;

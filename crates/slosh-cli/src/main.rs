@@ -86,6 +86,18 @@ struct RunArgs {
     /// No progress bar and no summary line.
     #[arg(long)]
     quiet: bool,
+    /// Memory the run may use (GB); without it, what the machine has available. A run whose
+    /// estimated need exceeds it is refused before anything is allocated.
+    #[arg(long, value_name = "GB", value_parser = positive_gb)]
+    max_memory: Option<f64>,
+}
+
+/// A positive, finite number of GB.
+fn positive_gb(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err(format!("must be a positive number of GB (got {text})")),
+    }
 }
 
 #[derive(Args)]
@@ -279,6 +291,7 @@ fn cmd_run(args: RunArgs) -> Result<()> {
         progress: !args.quiet,
         verbose: !args.quiet,
         plots: true,
+        max_memory_bytes: args.max_memory.map(|gb| gb * 1e9),
     };
     run_case(case, &opts)?;
     Ok(())

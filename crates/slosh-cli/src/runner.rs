@@ -26,6 +26,8 @@ pub struct RunOptions {
     pub verbose: bool,
     /// Write plots (PNG + SVG) at the end.
     pub plots: bool,
+    /// Memory the run may use (bytes); `None` = what the machine has available.
+    pub max_memory_bytes: Option<f64>,
 }
 
 /// The summary written to `summary.ron` (DESIGN.md §4).
@@ -255,6 +257,7 @@ fn build_and_run(case: &mut Case, opts: &RunOptions) -> Result<Summary> {
         .map(Path::to_path_buf)
         .unwrap_or_default();
     let fit = build::fit_to_lattice(&case.tank, case.dx)?;
+    crate::memory::check_memory_budget(&fit.tank, fit.dx, opts.max_memory_bytes)?;
     let mut sph = case.sph.clone();
     if let SoundSpeedRule::FromCase { coefficient, .. } = sph.sound_speed {
         let flow_speed = case.excitation_speed()?;

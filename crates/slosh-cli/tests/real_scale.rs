@@ -307,3 +307,35 @@ fn tiny_frame_interval_is_warned() {
         "{text}"
     );
 }
+
+/// A resolution that cannot fit in memory is refused before anything is allocated, with the
+/// estimate and a dx that fits (the 3D cylinder at dx = 10 µm would need ≈ 5×10⁸ GB).
+#[test]
+fn a_run_that_cannot_fit_in_memory_is_refused_at_once() {
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = temp("memory");
+    let started = std::time::Instant::now();
+    let o = Command::new(env!("CARGO_BIN_EXE_slosh"))
+        .arg("run")
+        .arg(root.join("scripts/cylinder_3d.rhai"))
+        .args(["--set", "dx=1e-5", "--quiet", "--out"])
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(
+        err.contains("this run needs ≈") && err.contains("use dx ≥"),
+        "{err}"
+    );
+    assert!(started.elapsed().as_secs_f64() < 10.0);
+    let o = Command::new(env!("CARGO_BIN_EXE_slosh"))
+        .arg("run")
+        .arg(root.join("scripts/cylinder_3d.rhai"))
+        .args(["--max-memory", "0.01", "--quiet", "--out"])
+        .arg(dir.join("out2"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("--max-memory"), "{err}");
+}
