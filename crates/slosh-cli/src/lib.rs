@@ -3,6 +3,7 @@
 
 pub mod bench;
 pub mod build;
+pub mod interrupt;
 pub mod load_filter;
 pub mod memory;
 pub mod post;

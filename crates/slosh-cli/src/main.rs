@@ -208,6 +208,11 @@ fn x86_64_v3_supported() -> bool {
 fn main() -> ExitCode {
     exit_unless_cpu_supports_build();
     let cli = parse_command_line();
+    if matches!(cli.command, Command::Run(_) | Command::Sweep(_)) {
+        if let Err(e) = slosh_cli::interrupt::install() {
+            eprintln!("warning: SIGINT/SIGTERM handlers not installed ({e}): a signal ends the run at once");
+        }
+    }
     let result = match cli.command {
         Command::Run(args) => cmd_run(args),
         Command::Sweep(args) => cmd_sweep(args),
@@ -230,7 +235,10 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
-            ExitCode::FAILURE
+            match e.downcast_ref::<slosh_cli::interrupt::Interrupted>() {
+                Some(i) => ExitCode::from(i.exit_code()),
+                None => ExitCode::FAILURE,
+            }
         }
     }
 }

@@ -39,7 +39,8 @@ pub struct Summary {
     pub case: String,
     /// Script file.
     pub script: String,
-    /// "completed" or "failed".
+    /// "completed", "failed", or "interrupted" (SIGINT/SIGTERM: the outputs up to the step
+    /// the signal came in).
     pub status: String,
     /// The error message when the run failed.
     pub error: Option<String>,
@@ -541,6 +542,10 @@ fn run_loop<const D: usize>(
             failure = Some(e.into());
             break;
         }
+        if let Some(signal) = crate::interrupt::received() {
+            failure = Some(crate::interrupt::Interrupted { signal }.into());
+            break;
+        }
         if let Some(loads) = sim.loads().centred() {
             while pending.front().is_some_and(|r| r.step <= loads.step) {
                 let row = pending.pop_front().expect("front");
@@ -644,10 +649,10 @@ fn run_loop<const D: usize>(
         version: env!("CARGO_PKG_VERSION").to_string(),
         case: case.name.clone(),
         script: case.script.display().to_string(),
-        status: if failure.is_some() {
-            "failed"
-        } else {
-            "completed"
+        status: match &failure {
+            None => "completed",
+            Some(e) if e.is::<crate::interrupt::Interrupted>() => "interrupted",
+            Some(_) => "failed",
         }
         .into(),
         error: failure.as_ref().map(|e| format!("{e:#}")),
@@ -784,8 +789,13 @@ fn run_loop<const D: usize>(
     }
     slosh_io::write_ron(out.join("summary.ron"), &summary)?;
     if let Some(e) = failure {
+        let how = if e.is::<crate::interrupt::Interrupted>() {
+            "; run the case again to redo it (resume from a checkpoint is not available yet)"
+        } else {
+            ""
+        };
         return Err(e.context(format!(
-            "the run stopped at t = {:.4} s; the outputs written so far are in {}",
+            "the run stopped at t = {:.4} s; the outputs written so far are in {}{how}",
             sim.time(),
             out.display()
         )));

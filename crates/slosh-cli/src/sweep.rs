@@ -46,6 +46,8 @@ pub enum CaseStatus {
     Skipped,
     /// Failed (the error says why); the other cases went on.
     Failed,
+    /// Stopped by SIGINT/SIGTERM (while running, or not started): run the sweep again.
+    Interrupted,
 }
 
 impl CaseStatus {
@@ -54,6 +56,7 @@ impl CaseStatus {
         match self {
             CaseStatus::Completed | CaseStatus::Skipped => "completed",
             CaseStatus::Failed => "failed",
+            CaseStatus::Interrupted => "interrupted",
         }
     }
 }
@@ -64,6 +67,7 @@ impl fmt::Display for CaseStatus {
             CaseStatus::Completed => "completed",
             CaseStatus::Skipped => "skipped (done before)",
             CaseStatus::Failed => "failed",
+            CaseStatus::Interrupted => "interrupted",
         })
     }
 }
@@ -595,6 +599,9 @@ pub fn cli_sweep(
     std::thread::scope(|scope| {
         for _ in 0..jobs {
             scope.spawn(|| loop {
+                if crate::interrupt::received().is_some() {
+                    break;
+                }
                 let i = next.fetch_add(1, Ordering::SeqCst);
                 let Some(&k) = to_run.get(i) else { break };
                 let p = &planned[k];
@@ -620,11 +627,24 @@ pub fn cli_sweep(
             });
         }
     });
+    // Cases a signal kept from starting.
     let results: Vec<Done> = results
         .into_inner()
         .expect("sweep results")
         .into_iter()
-        .map(|d| d.expect("every case has a result"))
+        .zip(&planned)
+        .map(|(d, p)| {
+            d.unwrap_or_else(|| Done {
+                outcome: CaseOutcome {
+                    folder: p.folder.clone(),
+                    values: p.values.clone(),
+                    status: CaseStatus::Interrupted,
+                    error: Some("not started: the sweep was interrupted".into()),
+                    wall_time_s: 0.0,
+                },
+                summary: None,
+            })
+        })
         .collect();
 
     let csv = out_dir.join("sweep.csv");
@@ -638,6 +658,20 @@ pub fn cli_sweep(
     if !quiet {
         print_table(&outcome);
     }
+    if let Some(signal) = crate::interrupt::received() {
+        let done = outcome
+            .cases
+            .iter()
+            .filter(|c| c.status != CaseStatus::Interrupted)
+            .count();
+        return Err(
+            anyhow::Error::new(crate::interrupt::Interrupted { signal }).context(format!(
+                "the sweep stopped after {done} of {} cases (sweep.csv lists them); run the \
+                 same command again to run the rest",
+                outcome.cases.len()
+            )),
+        );
+    }
     Ok(outcome)
 }
 
@@ -647,6 +681,29 @@ fn fmt_values(values: &[(String, ParamValue)]) -> String {
         .map(|(n, v)| format!("{n}={v}"))
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// Waits for a case's process, passing on a SIGINT or SIGTERM the sweep receives (once), so
+/// that the case ends its step, keeps its outputs and exits; no case outlives the sweep.
+fn wait_forwarding_signals(
+    mut child: std::process::Child,
+) -> std::io::Result<std::process::ExitStatus> {
+    let mut forwarded = false;
+    loop {
+        if let Some(status) = child.try_wait()? {
+            return Ok(status);
+        }
+        if let (Some(signal), false) = (crate::interrupt::received(), forwarded) {
+            if let Ok(pid) = i32::try_from(child.id()) {
+                // SAFETY: kill(2) with the id of a child this process has not reaped yet.
+                unsafe {
+                    libc::kill(pid, signal);
+                }
+            }
+            forwarded = true;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
 }
 
 /// Runs one case as a child `slosh run` and reads its summary back.
@@ -689,16 +746,35 @@ fn run_one(exe: &Path, case: &Path, p: &Planned, threads: usize) -> Done {
         // ParamValue's Display quotes strings, which --set strips: the text round-trips.
         cmd.arg("--set").arg(format!("{name}={value}"));
     }
-    let status = cmd
+    // In a process group of its own, so that a terminal's Ctrl-C reaches the sweep only,
+    // which passes it on once (a second SIGINT would stop the case at once).
+    std::os::unix::process::CommandExt::process_group(&mut cmd, 0);
+    let child = cmd
         .stdin(Stdio::null())
         .stdout(Stdio::from(log))
         .stderr(Stdio::from(log_err))
-        .status();
-    let elapsed = start.elapsed().as_secs_f64();
-    let status = match status {
+        .spawn();
+    let status = match child.and_then(wait_forwarding_signals) {
         Ok(s) => s,
         Err(e) => return fail(format!("cannot start {}: {e}", exe.display()), None),
     };
+    let elapsed = start.elapsed().as_secs_f64();
+    if let Some(signal) = crate::interrupt::received() {
+        let summary = read_summary(&summary_path).ok();
+        return Done {
+            outcome: CaseOutcome {
+                folder: p.folder.clone(),
+                values: p.values.clone(),
+                status: CaseStatus::Interrupted,
+                error: Some(format!(
+                    "{} (exit status {status})",
+                    crate::interrupt::Interrupted { signal }
+                )),
+                wall_time_s: elapsed,
+            },
+            summary,
+        };
+    }
     let summary = read_summary(&summary_path).ok();
     if status.success() && summary.as_ref().is_some_and(ReadSummary::completed) {
         return Done {

@@ -1,0 +1,103 @@
+//! SIGINT and SIGTERM: a run ends its step, keeps its outputs, says "interrupted" and exits
+//! with 128 + the signal; a sweep passes the signal on to its running case, waits for it and
+//! starts no other.
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn temp(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join("slosh-signal-tests").join(test);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A 2D case long enough to be interrupted (0.8 m × 0.4 m of water, dx = 0.02 m, 60 s).
+fn long_case(dir: &Path) -> PathBuf {
+    let script = "let amplitude = param(\"amplitude\", 0.005); // ground displacement (m)\n\
+                  tank(#{ shape: \"rect\", width: 0.8, height: 0.6, depth: 0.4 });\n\
+                  numerics(#{ dx: 0.02 });\n\
+                  run(#{ settle: 0.0, duration: 60.0, output_interval: 0.01 });\n\
+                  fn ground_accel(t) { amplitude * 25.0 * sin(5.0 * t) }\n";
+    let path = dir.join("long.rhai");
+    std::fs::write(&path, script).unwrap();
+    path
+}
+
+/// Waits until `file` exists and holds at least `lines` lines (at most 60 s).
+fn wait_for_lines(file: &Path, lines: usize) {
+    let start = Instant::now();
+    while start.elapsed() < Duration::from_secs(60) {
+        if std::fs::read_to_string(file).is_ok_and(|t| t.lines().count() >= lines) {
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    panic!("{} did not reach {lines} lines", file.display());
+}
+
+fn signal(child: &Child, sig: i32) {
+    // SAFETY: kill(2) on the id of a child not yet reaped.
+    unsafe {
+        libc::kill(child.id() as i32, sig);
+    }
+}
+
+#[test]
+fn sigterm_ends_a_run_cleanly_with_143() {
+    let dir = temp("run");
+    let case = long_case(&dir);
+    let out = dir.join("out");
+    let child = Command::new(env!("CARGO_BIN_EXE_slosh"))
+        .args(["run", case.to_str().unwrap(), "--quiet", "--out"])
+        .arg(&out)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    wait_for_lines(&out.join("series.csv"), 20);
+    signal(&child, libc::SIGTERM);
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(143), "{err}");
+    assert!(err.contains("interrupted by SIGTERM"), "{err}");
+    let summary = std::fs::read_to_string(out.join("summary.ron")).unwrap();
+    assert!(summary.contains("status: \"interrupted\""), "{summary}");
+    let series = std::fs::read_to_string(out.join("series.csv")).unwrap();
+    assert!(series.lines().count() >= 20);
+    assert!(!out.join(".slosh.lock").exists(), "the lock is released");
+}
+
+#[test]
+fn sigint_to_a_sweep_reaches_its_case_and_no_case_is_left_running() {
+    let dir = temp("sweep");
+    let case = long_case(&dir);
+    let out = dir.join("sweep");
+    let child = Command::new(env!("CARGO_BIN_EXE_slosh"))
+        .args([
+            "sweep",
+            case.to_str().unwrap(),
+            "--vary",
+            "amplitude=0.004,0.006",
+        ])
+        .args(["--jobs", "1", "--quiet", "--out"])
+        .arg(&out)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    wait_for_lines(&out.join("amplitude-0.004/series.csv"), 20);
+    signal(&child, libc::SIGINT);
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(130), "{err}");
+    assert!(err.contains("run the same command again"), "{err}");
+    // The case that was running ended cleanly (its summary says so, its lock is gone); the
+    // other never started.
+    let first = out.join("amplitude-0.004");
+    let summary = std::fs::read_to_string(first.join("summary.ron")).unwrap();
+    assert!(summary.contains("status: \"interrupted\""), "{summary}");
+    assert!(!first.join(".slosh.lock").exists());
+    assert!(!out.join("amplitude-0.006/series.csv").exists());
+    let table = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    assert!(table.contains("interrupted"), "{table}");
+}
