@@ -466,7 +466,7 @@ pub(crate) fn cylinder_forced_inner(
     let _ = line_plot(
         plot_path(&ctx.out, &stem),
         &PlotSpec::new(
-            &format!("{title}: wall elevation"),
+            format!("{title}: wall elevation"),
             "time since excitation start t (s)",
             "η at x = −R + dx (m)",
         ),
@@ -479,7 +479,7 @@ pub(crate) fn cylinder_forced_inner(
     let _ = line_plot(
         plot_path(&ctx.out, &stem2),
         &PlotSpec::new(
-            &format!("{title}: base shear"),
+            format!("{title}: base shear"),
             "time since excitation start t (s)",
             "base shear V_x (N)",
         ),
