@@ -25,8 +25,9 @@ pub struct RunOptions {
     pub plots: bool,
 }
 
-/// The summary written to `summary.ron` (DESIGN.md §4).
-#[derive(Clone, Debug, Serialize)]
+/// The summary written to `summary.ron` (DESIGN.md §4). `Default` gives its layout with zeros
+/// (a sweep names its `sweep.csv` columns from it before any case has run).
+#[derive(Clone, Debug, Default, Serialize)]
 pub struct Summary {
     /// Program version.
     pub version: String,
@@ -121,6 +122,9 @@ pub struct Summary {
     pub post: Vec<(String, ParamValue)>,
     /// The error of the script's `post(run)` when it failed (the run's other outputs stand).
     pub post_error: Option<String>,
+    /// Warnings about the input (no excitation, a record shorter than the run, a header that
+    /// disagrees with its data), one sentence each, as printed on stderr.
+    pub warnings: Vec<String>,
 }
 
 /// Closed-form numbers written beside the SPH result.
@@ -197,11 +201,6 @@ fn columns(dim: usize, gauges: &[slosh_script::GaugeSpec]) -> Columns {
 pub fn run_case(mut case: Case, opts: &RunOptions) -> Result<Summary> {
     std::fs::create_dir_all(&opts.out_dir)
         .with_context(|| format!("cannot create the output folder {}", opts.out_dir.display()))?;
-    let script_dir = case
-        .script
-        .parent()
-        .map(Path::to_path_buf)
-        .unwrap_or_default();
     match case.dim() {
         2 => {
             let setup = build::build_2d(&case.tank, case.dx)?;
@@ -209,7 +208,7 @@ pub fn run_case(mut case: Case, opts: &RunOptions) -> Result<Summary> {
             run_loop(sim, &mut case, opts)
         }
         _ => {
-            let setup = build::build_3d(&case.tank, case.dx, &script_dir)?;
+            let setup = build::build_3d(&case.tank, case.dx, &case.sandbox)?;
             let sim = Simulation::<3>::new(setup, case.sph.clone())?;
             run_loop(sim, &mut case, opts)
         }
@@ -257,6 +256,9 @@ fn run_loop<const D: usize>(
     case: &mut Case,
     opts: &RunOptions,
 ) -> Result<Summary> {
+    for warning in &case.warnings {
+        eprintln!("warning: {warning}");
+    }
     let out = &opts.out_dir;
     let n_fluid0 = sim.fluid().position.len();
     let n_wall = sim.walls().position.len();
@@ -540,6 +542,7 @@ fn run_loop<const D: usize>(
         input_spectrum: None,
         post: Vec::new(),
         post_error: None,
+        warnings: case.warnings.clone(),
     };
     if roof.has_roof() {
         let column = |name: &str| col(name).cloned().unwrap_or_default();
