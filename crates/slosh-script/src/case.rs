@@ -19,6 +19,9 @@ pub struct CaseOptions {
     pub overrides: Vec<(String, ParamValue)>,
     /// `--allow-read DIR` folders the script may read below, beside its own and its project's.
     pub allow_read: Vec<PathBuf>,
+    /// Cap on the memory one evaluation of the script may take, bytes (None:
+    /// [`SCRIPT_MEMORY_BUDGET_BYTES`](crate::SCRIPT_MEMORY_BUDGET_BYTES)).
+    pub script_memory_bytes: Option<u64>,
 }
 
 /// The script functions called during and after a run.
@@ -246,7 +249,10 @@ fn evaluate(path: &Path, options: &CaseOptions) -> Result<Evaluated, ScriptError
     let sandbox = ReadSandbox::for_script(&dir, &options.allow_read)
         .map(Arc::new)
         .map_err(|m| ScriptError::case(path, m))?;
-    let engine = build_engine(shared.clone(), globals.clone(), sandbox.clone());
+    let budget = options
+        .script_memory_bytes
+        .unwrap_or(crate::memory::SCRIPT_MEMORY_BUDGET_BYTES);
+    let engine = build_engine(shared.clone(), globals.clone(), sandbox.clone(), budget);
     let ast = engine.compile(&source).map_err(|e| {
         let text = e.0.to_string();
         ScriptError::at(path, e.1, text)

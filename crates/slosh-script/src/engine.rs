@@ -62,11 +62,18 @@ fn runtime_error(message: impl Into<String>) -> Box<EvalAltResult> {
 
 /// Builds the sandboxed engine with the host functions bound to `shared`, and a variable
 /// resolver that lets script functions read the script's top-level variables (`globals`).
-/// Host functions read files only through `sandbox`.
-pub(crate) fn build_engine(shared: Shared, globals: Globals, sandbox: Arc<ReadSandbox>) -> Engine {
+/// Host functions read files only through `sandbox`; an evaluation is stopped when it adds more
+/// than `memory_budget_bytes` to the process's memory.
+pub(crate) fn build_engine(
+    shared: Shared,
+    globals: Globals,
+    sandbox: Arc<ReadSandbox>,
+    memory_budget_bytes: u64,
+) -> Engine {
     let mut engine = Engine::new();
     let motions = shared.lock().expect("script state").motions.clone();
-    // Sandbox: limits against runaway scripts; no eval; modules are compiled out.
+    // Sandbox: limits against runaway scripts (operations, depth, the size of each value and
+    // the memory of all of them); no eval; modules are compiled out.
     engine.set_max_operations(20_000_000);
     engine.set_max_call_levels(64);
     engine.set_max_expr_depths(128, 64);
@@ -74,6 +81,7 @@ pub(crate) fn build_engine(shared: Shared, globals: Globals, sandbox: Arc<ReadSa
     engine.set_max_array_size(10_000_000);
     engine.set_max_map_size(100_000);
     engine.disable_symbol("eval");
+    crate::memory::cap_script_memory(&mut engine, memory_budget_bytes);
     engine.on_print(|text| eprintln!("[script] {text}"));
     engine.on_debug(|text, _source, pos| eprintln!("[script {pos}] {text}"));
 
