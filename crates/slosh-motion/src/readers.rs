@@ -83,6 +83,12 @@ fn check_sample_interval(dt_s: f64, npts: usize, source: &str, line: usize) -> R
     })
 }
 
+/// Most samples a non-uniform plain-text record is resampled to, per row of the file and in
+/// all: the smallest step sets the grid, and near-duplicate times would otherwise make a small
+/// file allocate without bound.
+const RESAMPLED_PER_ROW: usize = 1000;
+const MAX_RESAMPLED: usize = 50_000_000;
+
 /// The most whitespace-separated values `bytes` can hold (one character and one separator
 /// each): no reader reserves room for more samples than this, whatever a header announces.
 fn max_values_in(bytes: &[u8]) -> usize {
@@ -606,9 +612,12 @@ fn parse_plain_text_bytes(
         } else {
             dt_s = min_step;
             let n_new = ((t_last - t_first) / dt_s + 1e-9).floor() as usize + 1;
-            if n_new > 50_000_000 {
+            check_sample_interval(dt_s, n_new, source, rows[0].0)?;
+            let most = (RESAMPLED_PER_ROW * rows.len()).min(MAX_RESAMPLED);
+            if n_new > most {
                 return Err(MotionError::InvalidArgument(format!(
-                    "{source}: the smallest time step {dt_s} s would make {n_new} samples; remove near-duplicate time rows"
+                    "{source}: the smallest time step {dt_s} s would make {n_new} samples from {} rows (at most {most}); remove near-duplicate time rows",
+                    rows.len()
                 )));
             }
             let mut out = Vec::with_capacity(n_new);
