@@ -357,10 +357,20 @@ fn number_text(v: &ron::Value) -> Option<String> {
 fn read_summary(path: &Path) -> Result<ReadSummary> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let head: SummaryHead = ron::from_str(&text)
-        .with_context(|| format!("{} is not a summary written by slosh run", path.display()))?;
-    let fields: OrderedFields = ron::from_str(&text)
-        .with_context(|| format!("{} is not a summary written by slosh run", path.display()))?;
+    parse_summary(&text, &path.display().to_string())
+}
+
+/// The `sweep.csv` columns of a `summary.ron` text with their values as text (numbers of the
+/// summary, `theory_*` and `post_*`); `source` names it in errors.
+pub fn summary_columns(text: &str, source: &str) -> Result<Vec<(String, String)>> {
+    parse_summary(text, source).map(|s| s.scalars)
+}
+
+fn parse_summary(text: &str, source: &str) -> Result<ReadSummary> {
+    let head: SummaryHead = ron::from_str(text)
+        .with_context(|| format!("{source} is not a summary written by slosh run"))?;
+    let fields: OrderedFields = ron::from_str(text)
+        .with_context(|| format!("{source} is not a summary written by slosh run"))?;
     let mut scalars = numeric_fields(&fields);
     for (k, v) in &head.post {
         let t = match v {
