@@ -3,9 +3,7 @@
 use anyhow::{bail, Context, Result};
 use slosh_core::ParticleSetup;
 use slosh_geometry::{BoxTank, CylinderTank, InitialSurface, Layout, RectTank2, Roof};
-use slosh_script::resolve_script_path;
-use slosh_script::TankSpec;
-use std::path::Path;
+use slosh_script::{ReadSandbox, TankSpec};
 
 /// The geometry's initial-surface shape from its script name ("plane" or "mode1").
 fn initial_surface(name: &str) -> InitialSurface {
@@ -156,9 +154,9 @@ pub fn build_2d(tank: &TankSpec, dx: f64) -> Result<ParticleSetup<2>> {
     }
 }
 
-/// Builds the 3D particles of a 3D tank. A roof mesh path is read relative to the script's
-/// folder (and may not leave it).
-pub fn build_3d(tank: &TankSpec, dx: f64, script_dir: &Path) -> Result<ParticleSetup<3>> {
+/// Builds the 3D particles of a 3D tank. A roof mesh path is read through the script's
+/// `sandbox` (below its folder, its project folder or an `--allow-read` folder).
+pub fn build_3d(tank: &TankSpec, dx: f64, sandbox: &ReadSandbox) -> Result<ParticleSetup<3>> {
     match tank {
         TankSpec::Cylinder {
             radius,
@@ -177,7 +175,7 @@ pub fn build_3d(tank: &TankSpec, dx: f64, script_dir: &Path) -> Result<ParticleS
             })?;
             if let Roof::Mesh(path) = &roof {
                 let rel = path.to_string_lossy().to_string();
-                let resolved = resolve_script_path(script_dir, &rel).map_err(anyhow::Error::msg)?;
+                let resolved = sandbox.resolve(&rel).map_err(anyhow::Error::msg)?;
                 roof = Roof::Mesh(resolved);
             }
             Ok(CylinderTank::new(*radius, *height, *depth, roof)

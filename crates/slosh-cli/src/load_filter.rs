@@ -30,7 +30,7 @@ pub const FILTERED_SUFFIX: &str = "_lp";
 pub const DEFAULT_CUTOFF_OVER_F1: f64 = 10.0;
 
 /// The filter as the summary and the units file state it.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Default, Serialize)]
 pub struct LoadFilter {
     /// Cut-off frequency (Hz).
     pub cutoff_hz: f64,

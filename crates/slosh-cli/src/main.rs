@@ -3,7 +3,7 @@
 use anyhow::{bail, Context, Result};
 use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 use slosh_cli::{run_case, RunOptions};
-use slosh_script::{list_params, load_case, parse_set_value, CaseOptions};
+use slosh_script::{list_params_with, load_case, parse_set_value, CaseOptions};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -86,6 +86,10 @@ struct RunArgs {
     /// No progress bar and no summary line.
     #[arg(long)]
     quiet: bool,
+    /// Also let the script read files below DIR (repeatable); by default it reads only below
+    /// its own folder and its project folder (one holding slosh.toml, or the repository root).
+    #[arg(long = "allow-read", value_name = "DIR")]
+    allow_read: Vec<PathBuf>,
     /// Memory the run may use (GB); without it, what the machine has available. A run whose
     /// estimated need exceeds it is refused before anything is allocated.
     #[arg(long, value_name = "GB", value_parser = positive_gb)]
@@ -122,9 +126,13 @@ struct SweepArgs {
     /// Report failures only: no progress lines and no closing table.
     #[arg(long)]
     quiet: bool,
+    /// Also let the script read files below DIR (repeatable), as `slosh run --allow-read`.
+    #[arg(long = "allow-read", value_name = "DIR")]
+    allow_read: Vec<PathBuf>,
 }
 
 #[derive(Args)]
+#[command(allow_negative_numbers = true)]
 struct TheoryArgs {
     /// Tank shape: rect (2D section / rectangular tank) or cylinder.
     shape: String,
@@ -285,11 +293,19 @@ fn parse_sets(sets: &[String]) -> Result<CaseOptions> {
 
 fn cmd_run(args: RunArgs) -> Result<()> {
     set_threads(args.threads)?;
+    let mut options = parse_sets(&args.set)?;
+    options.allow_read = args.allow_read.clone();
     if args.list_params {
-        print!("{}", params_table(&list_params(&args.case)?));
+        let read_only = CaseOptions {
+            allow_read: args.allow_read,
+            ..CaseOptions::default()
+        };
+        print!(
+            "{}",
+            params_table(&list_params_with(&args.case, &read_only)?)
+        );
         return Ok(());
     }
-    let options = parse_sets(&args.set)?;
     let case = load_case(&args.case, &options)?;
     let out = args
         .out
@@ -334,10 +350,25 @@ fn cmd_sweep(args: SweepArgs) -> Result<()> {
         .iter()
         .map(|p| SweepPlot::parse(p))
         .collect::<Result<_>>()?;
+    let varied: Vec<String> = args
+        .vary
+        .iter()
+        .map(|v| slosh_cli::sweep::parse_vary(v).map(|v| v.name))
+        .collect::<Result<_>>()?;
+    let columns = slosh_cli::sweep::known_columns(&varied);
+    for plot in &plots {
+        plot.check_columns(&columns)?;
+    }
     let exe = std::env::current_exe()
         .context("cannot find the slosh executable that runs the cases of the sweep")?;
-    let outcome = slosh_cli::sweep::cli_sweep(
-        &exe, &args.case, &args.vary, args.out, args.jobs, args.quiet,
+    let outcome = slosh_cli::sweep::cli_sweep_reading(
+        &exe,
+        &args.case,
+        &args.vary,
+        args.out,
+        args.jobs,
+        args.quiet,
+        &args.allow_read,
     )?;
     for plot in &plots {
         let title = format!(
@@ -393,6 +424,11 @@ fn cmd_theory(args: TheoryArgs) -> Result<()> {
         (None, None) => {}
         _ => bail!("a sine excitation needs both --amplitude and --omega"),
     }
+    input.check().map_err(|problems| {
+        anyhow::anyhow!(
+            "slosh theory: {problems}; give sizes in metres, e.g. --width 1.0 --depth 0.5"
+        )
+    })?;
     let report = tank_report(&input);
     let text = if args.ron {
         ron::ser::to_string_pretty(&report, ron::ser::PrettyConfig::default())?

@@ -30,8 +30,9 @@ pub struct RunOptions {
     pub max_memory_bytes: Option<f64>,
 }
 
-/// The summary written to `summary.ron` (DESIGN.md §4).
-#[derive(Clone, Debug, Serialize)]
+/// The summary written to `summary.ron` (DESIGN.md §4). `Default` gives its layout with zeros
+/// (a sweep names its `sweep.csv` columns from it before any case has run).
+#[derive(Clone, Debug, Default, Serialize)]
 pub struct Summary {
     /// Program version.
     pub version: String,
@@ -252,11 +253,6 @@ pub fn run_case(mut case: Case, opts: &RunOptions) -> Result<Summary> {
 
 /// Fits, builds and runs a claimed case.
 fn build_and_run(case: &mut Case, opts: &RunOptions) -> Result<Summary> {
-    let script_dir = case
-        .script
-        .parent()
-        .map(Path::to_path_buf)
-        .unwrap_or_default();
     let fit = build::fit_to_lattice(&case.tank, case.dx)?;
     crate::memory::check_memory_budget(&fit.tank, fit.dx, opts.max_memory_bytes)?;
     let mut sph = case.sph.clone();
@@ -274,7 +270,7 @@ fn build_and_run(case: &mut Case, opts: &RunOptions) -> Result<Summary> {
             run_loop(sim, case, fit, opts)
         }
         _ => {
-            let setup = build::build_3d(&fit.tank, fit.dx, &script_dir)?;
+            let setup = build::build_3d(&fit.tank, fit.dx, &case.sandbox)?;
             let sim = Simulation::<3>::new(setup, sph)?;
             run_loop(sim, case, fit, opts)
         }
@@ -367,18 +363,28 @@ fn run_loop<const D: usize>(
     mut fit: build::FittedTank,
     opts: &RunOptions,
 ) -> Result<Summary> {
+    for warning in &case.warnings {
+        eprintln!("warning: {warning}");
+    }
     let out = &opts.out_dir;
     let n_fluid0 = sim.fluid().position.len();
     let n_wall = sim.walls().position.len();
     let tank = simulated_tank(&sim, &mut fit);
-    let mut warnings: Vec<String> = sim
+    let numerics_warnings: Vec<String> = sim
         .sound_speed_choice()
         .compression_warning()
         .into_iter()
         .collect();
-    for w in &warnings {
+    for w in &numerics_warnings {
         eprintln!("warning: {w}");
     }
+    // The input's warnings (printed above) and the numerics', in the summary.
+    let mut warnings: Vec<String> = case
+        .warnings
+        .iter()
+        .cloned()
+        .chain(numerics_warnings)
+        .collect();
     if opts.verbose {
         for note in &fit.notes {
             eprintln!("{}: lattice: {note}", case.name);

@@ -25,7 +25,7 @@
 use anyhow::{bail, Context, Result};
 use serde::de::{Deserializer, MapAccess, Visitor};
 use serde::Deserialize;
-use slosh_script::{list_params, load_case, parse_set_value, CaseOptions, ParamValue};
+use slosh_script::{list_params_with, load_case, parse_set_value, CaseOptions, ParamValue};
 use std::collections::HashMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -361,10 +361,36 @@ fn number_text(v: &ron::Value) -> Option<String> {
 fn read_summary(path: &Path) -> Result<ReadSummary> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let head: SummaryHead = ron::from_str(&text)
-        .with_context(|| format!("{} is not a summary written by slosh run", path.display()))?;
-    let fields: OrderedFields = ron::from_str(&text)
-        .with_context(|| format!("{} is not a summary written by slosh run", path.display()))?;
+    parse_summary(&text, &path.display().to_string())
+}
+
+/// The `sweep.csv` columns of a `summary.ron` text with their values as text (numbers of the
+/// summary, `theory_*` and `post_*`); `source` names it in errors.
+pub fn summary_columns(text: &str, source: &str) -> Result<Vec<(String, String)>> {
+    parse_summary(text, source).map(|s| s.scalars)
+}
+
+fn parse_summary(text: &str, source: &str) -> Result<ReadSummary> {
+    let head: SummaryHead = ron::from_str(text)
+        .with_context(|| format!("{source} is not a summary written by slosh run"))?;
+    let fields: OrderedFields = ron::from_str(text)
+        .with_context(|| format!("{source} is not a summary written by slosh run"))?;
+    let mut scalars = numeric_fields(&fields);
+    for (k, v) in &head.post {
+        let t = match v {
+            SummaryValue::Float(x) => slosh_io::format_f64(*x),
+            SummaryValue::Int(i) => i.to_string(),
+            SummaryValue::Bool(b) => b.to_string(),
+            SummaryValue::Str(s) => s.clone(),
+        };
+        scalars.push((format!("post_{k}"), t));
+    }
+    Ok(ReadSummary { head, scalars })
+}
+
+/// The numbers of a summary: its numeric top-level fields and `theory_<name>` for the numbers
+/// of its `theory` map, as (column, text).
+fn numeric_fields(fields: &OrderedFields) -> Vec<(String, String)> {
     let mut scalars = Vec::new();
     for (key, value) in &fields.0 {
         if let Some(t) = number_text(value) {
@@ -379,16 +405,43 @@ fn read_summary(path: &Path) -> Result<ReadSummary> {
             }
         }
     }
-    for (k, v) in &head.post {
-        let t = match v {
-            SummaryValue::Float(x) => slosh_io::format_f64(*x),
-            SummaryValue::Int(i) => i.to_string(),
-            SummaryValue::Bool(b) => b.to_string(),
-            SummaryValue::Str(s) => s.clone(),
-        };
-        scalars.push((format!("post_{k}"), t));
+    scalars
+}
+
+/// The first columns of `sweep.csv`: the case folder, the varied parameters, status and error.
+fn fixed_columns(varied: &[String]) -> Vec<String> {
+    let mut header: Vec<String> = vec!["case".into()];
+    header.extend(varied.iter().cloned());
+    header.push("status".into());
+    header.push("error".into());
+    header
+}
+
+/// The column of a summary scalar: its name, or `summary_<name>` when a fixed column (a
+/// varied `duration`, say) has that name.
+fn scalar_column(fixed: &[String], name: &str) -> String {
+    if fixed.iter().any(|h| h == name) {
+        format!("summary_{name}")
+    } else {
+        name.to_string()
     }
-    Ok(ReadSummary { head, scalars })
+}
+
+/// The columns `sweep.csv` has for these varied parameters, known before any case runs: the
+/// fixed columns and the numbers of `summary.ron`. Not included: the `post_<name>` columns,
+/// which hold what the script's `post(run)` returns and are known only after a run.
+pub fn known_columns(varied: &[String]) -> Vec<String> {
+    let fixed = fixed_columns(varied);
+    let blank = ron::to_string(&crate::runner::Summary::default()).unwrap_or_default();
+    let fields = ron::from_str::<OrderedFields>(&blank).unwrap_or(OrderedFields(Vec::new()));
+    let mut columns = fixed.clone();
+    for (name, _) in numeric_fields(&fields) {
+        let column = scalar_column(&fixed, &name);
+        if !columns.contains(&column) {
+            columns.push(column);
+        }
+    }
+    columns
 }
 
 /// True when the summary's parameters agree with `expected` (every varied parameter must be
@@ -438,6 +491,24 @@ pub fn cli_sweep(
     jobs: usize,
     quiet: bool,
 ) -> Result<SweepOutcome> {
+    cli_sweep_reading(exe, case, vary, out, jobs, quiet, &[])
+}
+
+/// [`cli_sweep`] whose cases may also read files below the `allow_read` folders (`slosh
+/// sweep --allow-read DIR`, passed on to each case's `slosh run`).
+pub fn cli_sweep_reading(
+    exe: &Path,
+    case: &Path,
+    vary: &[String],
+    out: Option<PathBuf>,
+    jobs: usize,
+    quiet: bool,
+    allow_read: &[PathBuf],
+) -> Result<SweepOutcome> {
+    let read_options = CaseOptions {
+        allow_read: allow_read.to_vec(),
+        ..CaseOptions::default()
+    };
     if vary.is_empty() {
         bail!("slosh sweep needs at least one --vary NAME=V1,V2,... (e.g. --vary tank_height=0.56,0.6,0.66)");
     }
@@ -466,7 +537,7 @@ pub fn cli_sweep(
     }
 
     // Check the names and types against the script's declarations before running anything.
-    let declared = list_params(case)
+    let declared = list_params_with(case, &read_options)
         .with_context(|| format!("cannot read the parameters of {}", case.display()))?;
     let known = || {
         declared
@@ -502,7 +573,7 @@ pub fn cli_sweep(
     let out_dir = match out {
         Some(d) => d,
         None => {
-            let name = load_case(case, &CaseOptions::default())
+            let name = load_case(case, &read_options)
                 .map(|c| c.name)
                 .unwrap_or_else(|_| {
                     case.file_stem()
@@ -605,7 +676,7 @@ pub fn cli_sweep(
                 let i = next.fetch_add(1, Ordering::SeqCst);
                 let Some(&k) = to_run.get(i) else { break };
                 let p = &planned[k];
-                let done = run_one(exe, case, p, threads);
+                let done = run_one(exe, case, p, threads, allow_read);
                 let n = finished.fetch_add(1, Ordering::SeqCst) + 1;
                 let o = &done.outcome;
                 if o.status == CaseStatus::Failed {
@@ -707,7 +778,7 @@ fn wait_forwarding_signals(
 }
 
 /// Runs one case as a child `slosh run` and reads its summary back.
-fn run_one(exe: &Path, case: &Path, p: &Planned, threads: usize) -> Done {
+fn run_one(exe: &Path, case: &Path, p: &Planned, threads: usize, allow_read: &[PathBuf]) -> Done {
     let start = Instant::now();
     let fail = |error: String, summary: Option<ReadSummary>| Done {
         outcome: CaseOutcome {
@@ -742,6 +813,9 @@ fn run_one(exe: &Path, case: &Path, p: &Planned, threads: usize) -> Done {
         .arg("--quiet")
         .arg("--threads")
         .arg(threads.to_string());
+    for dir in allow_read {
+        cmd.arg("--allow-read").arg(dir);
+    }
     for (name, value) in &p.values {
         // ParamValue's Display quotes strings, which --set strips: the text round-trips.
         cmd.arg("--set").arg(format!("{name}={value}"));
@@ -818,20 +892,11 @@ fn error_message(log: &str) -> Option<String> {
 /// Writes `sweep.csv`: case, varied values, status, error, then the union of the summaries'
 /// scalar columns in first-seen order.
 fn write_table(path: &Path, varies: &[Vary], results: &[Done]) -> Result<()> {
-    let mut header: Vec<String> = vec!["case".into()];
-    header.extend(varies.iter().map(|v| v.name.clone()));
-    header.push("status".into());
-    header.push("error".into());
+    let names: Vec<String> = varies.iter().map(|v| v.name.clone()).collect();
+    let mut header = fixed_columns(&names);
     let fixed = header.len();
-    // A summary scalar named like a fixed column (a varied `duration`, say) is `summary_<name>`.
     let fixed_names = header.clone();
-    let column_of = |k: &str| -> String {
-        if fixed_names.iter().any(|h| h == k) {
-            format!("summary_{k}")
-        } else {
-            k.to_string()
-        }
-    };
+    let column_of = |k: &str| scalar_column(&fixed_names, k);
     let mut scalar_columns: Vec<String> = Vec::new();
     for d in results {
         for (k, _) in d.summary.iter().flat_map(|s| &s.scalars) {

@@ -37,6 +37,33 @@ impl SweepPlot {
         })
     }
 
+    /// Checks that every column the plot names is one of `known` (the columns of `sweep.csv`,
+    /// see [`crate::sweep::known_columns`]) or a `post_<name>` column of the script's `post`.
+    pub fn check_columns(&self, known: &[String]) -> Result<()> {
+        let names = std::iter::once(&self.x).chain(&self.ys).chain(&self.groups);
+        for name in names {
+            if !known.contains(name) && !name.starts_with("post_") {
+                bail!(
+                    "--plot {}: sweep.csv will have no column `{name}`; its columns are: {} \
+                     (and post_<name> for each value the script's post(run) returns)",
+                    self.spec(),
+                    known.join(", ")
+                );
+            }
+        }
+        Ok(())
+    }
+
+    /// The request as written on the command line.
+    fn spec(&self) -> String {
+        let mut s = format!("{}:{}", self.x, self.ys.join(","));
+        if !self.groups.is_empty() {
+            s.push(':');
+            s.push_str(&self.groups.join("+"));
+        }
+        s
+    }
+
     /// File stem of the plot in the sweep folder.
     pub fn file_stem(&self) -> String {
         let mut s = format!("plot_{}_vs_{}", self.ys.join("_"), self.x);

@@ -32,17 +32,20 @@ impl SurfaceMesh {
             path: name.clone(),
             message: e.to_string(),
         })?;
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .unwrap_or("")
-            .to_ascii_lowercase();
-        let mut mesh = match ext.as_str() {
-            "obj" => parse_obj(&bytes).map_err(|message| GeometryError::MeshRead {
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        SurfaceMesh::parse(&bytes, ext, &name)
+    }
+
+    /// Parses the bytes of an OBJ or STL file, as [`SurfaceMesh::read`] does; `extension`
+    /// (`obj` or `stl`, any case) chooses the format and `name` names the file in errors.
+    pub fn parse(bytes: &[u8], extension: &str, name: &str) -> Result<SurfaceMesh, GeometryError> {
+        let name = name.to_string();
+        let mut mesh = match extension.to_ascii_lowercase().as_str() {
+            "obj" => parse_obj(bytes).map_err(|message| GeometryError::MeshRead {
                 path: name.clone(),
                 message,
             })?,
-            "stl" => parse_stl(&bytes).map_err(|message| GeometryError::MeshRead {
+            "stl" => parse_stl(bytes).map_err(|message| GeometryError::MeshRead {
                 path: name.clone(),
                 message,
             })?,
@@ -242,6 +245,19 @@ fn fmt_coord(c: f64) -> String {
     }
 }
 
+/// Longest excerpt of a mesh file that an error message quotes, in characters.
+const EXCERPT_CHARS: usize = 60;
+
+/// A short, escaped excerpt of a token of a mesh file for error messages (as the record
+/// readers quote a line): at most [`EXCERPT_CHARS`] characters, control characters escaped.
+fn excerpt(token: &str) -> String {
+    let escaped: String = token.chars().flat_map(char::escape_debug).collect();
+    match escaped.char_indices().nth(EXCERPT_CHARS) {
+        Some((at, _)) => format!("{}…", &escaped[..at]),
+        None => escaped,
+    }
+}
+
 fn parse_obj(bytes: &[u8]) -> Result<SurfaceMesh, String> {
     let text =
         std::str::from_utf8(bytes).map_err(|_| "the OBJ file is not UTF-8 text".to_string())?;
@@ -260,7 +276,9 @@ fn parse_obj(bytes: &[u8]) -> Result<SurfaceMesh, String> {
                         .parse::<f64>()
                         .ok()
                         .filter(|x| x.is_finite())
-                        .ok_or_else(|| format!("line {line_no}: bad coordinate '{tok}'"))?;
+                        .ok_or_else(|| {
+                            format!("line {line_no}: bad coordinate '{}'", excerpt(tok))
+                        })?;
                 }
                 mesh.vertices.push(v);
             }
@@ -269,9 +287,9 @@ fn parse_obj(bytes: &[u8]) -> Result<SurfaceMesh, String> {
                 let mut ids = Vec::new();
                 for tok in tokens {
                     let first = tok.split('/').next().unwrap_or("");
-                    let i: i64 = first
-                        .parse()
-                        .map_err(|_| format!("line {line_no}: bad face index '{tok}'"))?;
+                    let i: i64 = first.parse().map_err(|_| {
+                        format!("line {line_no}: bad face index '{}'", excerpt(tok))
+                    })?;
                     let idx = if i > 0 { i - 1 } else { n + i };
                     if i == 0 || idx < 0 || idx >= n {
                         return Err(format!(
@@ -339,7 +357,9 @@ fn parse_stl(bytes: &[u8]) -> Result<SurfaceMesh, String> {
                         .parse::<f64>()
                         .ok()
                         .filter(|x| x.is_finite())
-                        .ok_or_else(|| format!("line {}: bad coordinate '{tok}'", line_no + 1))?;
+                        .ok_or_else(|| {
+                            format!("line {}: bad coordinate '{}'", line_no + 1, excerpt(tok))
+                        })?;
                 }
                 corners.push(v);
             }

@@ -35,13 +35,64 @@ fn parse_number(token: &str) -> Option<f64> {
     v.is_finite().then_some(v)
 }
 
-fn shorten(line: &str) -> String {
-    let t = line.trim();
-    if t.chars().count() > 80 {
-        format!("{}…", t.chars().take(80).collect::<String>())
-    } else {
-        t.to_string()
+/// Longest excerpt of a file's line that an error message quotes, in characters.
+const EXCERPT_CHARS: usize = 60;
+
+/// A short, escaped excerpt of a line of a data file for error messages: at most
+/// [`EXCERPT_CHARS`] characters, control and non-printing characters escaped, so that a
+/// message never echoes more of a file than the start of the offending line.
+pub(crate) fn excerpt(line: &str) -> String {
+    let mut out = String::new();
+    let mut count = 0;
+    for c in line.trim().chars() {
+        let escaped: String = if c == '`' || c.is_control() || !c.is_ascii() && c.is_whitespace() {
+            c.escape_debug().collect()
+        } else {
+            c.to_string()
+        };
+        count += escaped.chars().count();
+        if count > EXCERPT_CHARS {
+            out.push('…');
+            return out;
+        }
+        out.push_str(&escaped);
     }
+    out
+}
+
+/// Shortest and longest sample intervals accepted for a ground-motion record, s (100 kHz to
+/// 1 Hz sampling). Accelerographs sample at 50–1000 Hz; values outside these bounds come from
+/// a wrong header or a time column in other units than seconds.
+pub const SAMPLE_INTERVAL_RANGE_S: (f64, f64) = (1e-5, 1.0);
+
+/// Checks that `dt_s` is a plausible sample interval; `npts` samples would last `npts·dt`.
+fn check_sample_interval(dt_s: f64, npts: usize, source: &str, line: usize) -> Result<()> {
+    let (lo, hi) = SAMPLE_INTERVAL_RANGE_S;
+    if dt_s.is_finite() && (lo..=hi).contains(&dt_s) {
+        return Ok(());
+    }
+    Err(MotionError::BadLayout {
+        path: source.into(),
+        line,
+        message: format!(
+            "sample interval {dt_s:e} s is not plausible for a ground-motion record \
+             ({npts} samples would last {:e} s); a record is sampled every {lo:e} s to {hi} s: \
+             fix the time step (DT, sampling frequency or time column, in seconds)",
+            npts as f64 * dt_s
+        ),
+    })
+}
+
+/// Most samples a non-uniform plain-text record is resampled to, per row of the file and in
+/// all: the smallest step sets the grid, and near-duplicate times would otherwise make a small
+/// file allocate without bound.
+const RESAMPLED_PER_ROW: usize = 1000;
+const MAX_RESAMPLED: usize = 50_000_000;
+
+/// The most whitespace-separated values `bytes` can hold (one character and one separator
+/// each): no reader reserves room for more samples than this, whatever a header announces.
+fn max_values_in(bytes: &[u8]) -> usize {
+    bytes.len() / 2 + 1
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -83,17 +134,22 @@ fn parse_at2_bytes(bytes: &[u8], source: &str) -> Result<Record> {
         line: 4,
         format: FORMAT,
         expected: "`NPTS= <count>, DT= <step> SEC` on line 4".into(),
-        found: shorten(lines[3]),
+        found: excerpt(lines[3]),
     })?;
-    if !dt_s.is_finite() || dt_s <= 0.0 {
+    if npts > max_values_in(bytes) {
         return Err(MotionError::WrongHeader {
             path: source.into(),
             line: 4,
             format: FORMAT,
-            expected: "a positive DT".into(),
-            found: shorten(lines[3]),
+            expected: format!(
+                "an NPTS no larger than the {} values a file of {} bytes can hold",
+                max_values_in(bytes),
+                bytes.len()
+            ),
+            found: excerpt(lines[3]),
         });
     }
+    check_sample_interval(dt_s, npts, source, 4)?;
     // Line 3 names the units ("... IN UNITS OF G"); refuse a file that names other units.
     let units_line = lines[2].to_ascii_uppercase();
     let units_word = units_line
@@ -106,7 +162,7 @@ fn parse_at2_bytes(bytes: &[u8], source: &str) -> Result<Record> {
             format: FORMAT,
             expected: "acceleration in units of g (e.g. `ACCELERATION TIME SERIES IN UNITS OF G`)"
                 .into(),
-            found: shorten(lines[2]),
+            found: excerpt(lines[2]),
         });
     }
     let mut values = Vec::with_capacity(npts);
@@ -116,7 +172,7 @@ fn parse_at2_bytes(bytes: &[u8], source: &str) -> Result<Record> {
             let v = parse_number(token).ok_or_else(|| MotionError::NotANumber {
                 path: source.into(),
                 line: line_no,
-                token: token.into(),
+                token: excerpt(token),
             })?;
             if values.len() == npts {
                 return Err(MotionError::NptsMismatch {
@@ -156,6 +212,7 @@ fn parse_at2_bytes(bytes: &[u8], source: &str) -> Result<Record> {
         processing_log: vec![format!(
             "read PEER AT2 `{source}` ({npts} samples, dt {dt_s} s, g -> m/s2 x {factor})"
         )],
+        warnings: Vec::new(),
     })
 }
 
@@ -259,7 +316,7 @@ fn parse_knet_bytes(bytes: &[u8], source: &str) -> Result<Record> {
                 line: k + 1,
                 format: FORMAT,
                 expected: format!("a line starting with `{}`", label.replace('|', "` or `")),
-                found: shorten(line),
+                found: excerpt(line),
             });
         };
         let value = if line.len() > 18 && line.is_char_boundary(18) {
@@ -279,14 +336,14 @@ fn parse_knet_bytes(bytes: &[u8], source: &str) -> Result<Record> {
             line: 11,
             format: FORMAT,
             expected: "a positive sampling frequency such as `100Hz`".into(),
-            found: shorten(lines[10]),
+            found: excerpt(lines[10]),
         })?;
     let scale = parse_knet_scale(&values[13]).ok_or_else(|| MotionError::WrongHeader {
         path: source.into(),
         line: 14,
         format: FORMAT,
         expected: "a scale factor such as `7845(gal)/8223790`".into(),
-        found: shorten(lines[13]),
+        found: excerpt(lines[13]),
     })?;
     let mut gal = Vec::new();
     for (k, line) in lines.iter().enumerate().skip(17) {
@@ -294,7 +351,7 @@ fn parse_knet_bytes(bytes: &[u8], source: &str) -> Result<Record> {
             let count = token.parse::<i64>().map_err(|_| MotionError::NotANumber {
                 path: source.into(),
                 line: k + 1,
-                token: token.into(),
+                token: excerpt(token),
             })?;
             gal.push(count as f64 * scale);
         }
@@ -307,10 +364,14 @@ fn parse_knet_bytes(bytes: &[u8], source: &str) -> Result<Record> {
         });
     }
     let npts = gal.len();
+    let dt_s = 1.0 / freq_hz;
+    check_sample_interval(dt_s, npts, source, 11)?;
+    let warnings: Vec<String> = knet_duration_warning(&values[11], npts, dt_s, source)
+        .into_iter()
+        .collect();
     let mean_gal = gal.iter().sum::<f64>() / npts as f64;
     let to_m_s2 = AccelUnit::Gal.to_m_s2();
     let accel: Vec<f64> = gal.iter().map(|a| (a - mean_gal) * to_m_s2).collect();
-    let dt_s = 1.0 / freq_hz;
     Ok(Record {
         dt_s,
         start_time_s: 0.0,
@@ -329,6 +390,30 @@ fn parse_knet_bytes(bytes: &[u8], source: &str) -> Result<Record> {
             "read K-NET ASCII `{source}` (station {}, dir {}, {npts} samples at {freq_hz} Hz, counts x {} = gal, mean {mean_gal:.6} gal removed, gal -> m/s2 x 0.01)",
             values[5], values[12], values[13]
         )],
+        warnings,
+    })
+}
+
+/// A warning when the K-NET header's `Duration Time` (s) disagrees with the `npts` samples
+/// every `dt_s` the file holds (by more than one sample interval and 1 %): a file cut short
+/// (or padded) would otherwise run silently with a motion that stops early.
+fn knet_duration_warning(stated: &str, npts: usize, dt_s: f64, source: &str) -> Option<String> {
+    let held_s = npts as f64 * dt_s;
+    let Some(stated_s) = parse_number(stated) else {
+        return Some(format!(
+            "{source}:12: `Duration Time` `{}` is not a number of seconds; the record holds \
+             {npts} samples = {held_s} s",
+            excerpt(stated)
+        ));
+    };
+    let tolerance_s = dt_s.max(0.01 * stated_s.abs());
+    ((stated_s - held_s).abs() > tolerance_s).then(|| {
+        format!(
+            "{source}:12: the header states a duration of {stated_s} s but the file holds \
+             {npts} samples at {} Hz = {held_s} s; the file may be cut short (the motion is \
+             zero after {held_s} s): check the download or the header",
+            1.0 / dt_s
+        )
     })
 }
 
@@ -427,7 +512,7 @@ fn parse_plain_text_bytes(
             return Err(MotionError::NotANumber {
                 path: source.into(),
                 line: line_no,
-                token: tokens[bad].into(),
+                token: excerpt(tokens[bad]),
             });
         }
         let row: Vec<f64> = parsed.into_iter().flatten().collect();
@@ -527,9 +612,12 @@ fn parse_plain_text_bytes(
         } else {
             dt_s = min_step;
             let n_new = ((t_last - t_first) / dt_s + 1e-9).floor() as usize + 1;
-            if n_new > 50_000_000 {
+            check_sample_interval(dt_s, n_new, source, rows[0].0)?;
+            let most = (RESAMPLED_PER_ROW * rows.len()).min(MAX_RESAMPLED);
+            if n_new > most {
                 return Err(MotionError::InvalidArgument(format!(
-                    "{source}: the smallest time step {dt_s} s would make {n_new} samples; remove near-duplicate time rows"
+                    "{source}: the smallest time step {dt_s} s would make {n_new} samples from {} rows (at most {most}); remove near-duplicate time rows",
+                    rows.len()
                 )));
             }
             let mut out = Vec::with_capacity(n_new);
@@ -559,6 +647,7 @@ fn parse_plain_text_bytes(
         }
         (dt_s, accel, dt_s)
     };
+    check_sample_interval(dt_s, accel.len(), source, rows[0].0)?;
     Ok(Record {
         dt_s,
         start_time_s: 0.0,
@@ -574,6 +663,7 @@ fn parse_plain_text_bytes(
         },
         accel_m_s2: accel,
         processing_log: log,
+        warnings: Vec::new(),
     })
 }
 

@@ -120,6 +120,10 @@ pub struct Record {
     pub meta: RecordMeta,
     /// Every operation applied since creation (reading included), in order, human-readable.
     pub processing_log: Vec<String>,
+    /// What the reader found suspicious but not fatal (e.g. a header's stated duration that
+    /// the data does not fill), one sentence each, for the user to see.
+    #[serde(default)]
+    pub warnings: Vec<String>,
 }
 
 impl Record {
@@ -146,6 +150,7 @@ impl Record {
                 sha256_hex: String::new(),
             },
             processing_log: vec![format!("from samples ({n} samples, dt {dt_s} s)")],
+            warnings: Vec::new(),
         })
     }
 

@@ -1,9 +1,11 @@
 //! Loading a case script into a [`Case`]: parameters, tank, numerics, run control, and the
 //! script functions called during and after the run.
 
+use crate::checks;
 use crate::engine::{build_engine, Declared, Globals, PlotRequest, Shared};
 use crate::error::ScriptError;
 use crate::params::{ParamDecl, ParamValue};
+use crate::sandbox::ReadSandbox;
 use crate::spec::{numerics_from_map, GaugeSpec, Resolution, RunSpec, TankSpec};
 use rhai::{CallFnOptions, Dynamic, Engine, Map, Scope, AST};
 use slosh_core::SphParams;
@@ -15,6 +17,11 @@ use std::sync::{Arc, Mutex, RwLock};
 pub struct CaseOptions {
     /// `--set NAME=VALUE` overrides, in command-line order.
     pub overrides: Vec<(String, ParamValue)>,
+    /// `--allow-read DIR` folders the script may read below, beside its own and its project's.
+    pub allow_read: Vec<PathBuf>,
+    /// Cap on the memory one evaluation of the script may take, bytes (None:
+    /// [`SCRIPT_MEMORY_BUDGET_BYTES`](crate::SCRIPT_MEMORY_BUDGET_BYTES)).
+    pub script_memory_bytes: Option<u64>,
 }
 
 /// The script functions called during and after a run.
@@ -198,6 +205,12 @@ pub struct Case {
     pub excitation: Excitation,
     /// Ground-motion records the script read (for `summary.ron`).
     pub motions: Vec<crate::MotionInfo>,
+    /// The folders the script and its tank (roof meshes) may read files from.
+    pub sandbox: ReadSandbox,
+    /// What may make the run not what the script's author meant (no excitation, a record
+    /// that ends before the run or disagrees with its header), one sentence each; front ends
+    /// show them before the run and record them in the summary.
+    pub warnings: Vec<String>,
 }
 
 impl Case {
@@ -247,12 +260,18 @@ impl Case {
 /// Evaluates a script's top level and returns the declared parameters only
 /// (`slosh run CASE --list-params`).
 pub fn list_params(path: &Path) -> Result<Vec<ParamDecl>, ScriptError> {
-    let (_, declared, ..) = evaluate(path, &CaseOptions::default())?;
+    list_params_with(path, &CaseOptions::default())
+}
+
+/// [`list_params`] with `options` (the `--allow-read` folders the top level may need to
+/// read its records; `--set` values are applied).
+pub fn list_params_with(path: &Path, options: &CaseOptions) -> Result<Vec<ParamDecl>, ScriptError> {
+    let (_, declared, ..) = evaluate(path, options)?;
     let d = declared.lock().expect("script state");
     Ok(d.params.clone())
 }
 
-type Evaluated = (Engine, Shared, AST, Scope<'static>, Globals);
+type Evaluated = (Engine, Shared, AST, String, Arc<ReadSandbox>);
 
 fn evaluate(path: &Path, options: &CaseOptions) -> Result<Evaluated, ScriptError> {
     let source = std::fs::read_to_string(path).map_err(|e| ScriptError::Io {
@@ -277,7 +296,13 @@ fn evaluate(path: &Path, options: &CaseOptions) -> Result<Evaluated, ScriptError
     let shared: Shared = Arc::new(Mutex::new(declared));
     let globals: Globals = Arc::new(RwLock::new(Default::default()));
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    let engine = build_engine(shared.clone(), globals.clone(), dir);
+    let sandbox = ReadSandbox::for_script(&dir, &options.allow_read)
+        .map(Arc::new)
+        .map_err(|m| ScriptError::case(path, m))?;
+    let budget = options
+        .script_memory_bytes
+        .unwrap_or(crate::memory::SCRIPT_MEMORY_BUDGET_BYTES);
+    let engine = build_engine(shared.clone(), globals.clone(), sandbox.clone(), budget);
     let ast = engine.compile(&source).map_err(|e| {
         let text = e.0.to_string();
         ScriptError::at(path, e.1, text)
@@ -293,13 +318,13 @@ fn evaluate(path: &Path, options: &CaseOptions) -> Result<Evaluated, ScriptError
             g.insert(name.to_string(), value);
         }
     }
-    Ok((engine, shared, ast, scope, globals))
+    Ok((engine, shared, ast, source, sandbox))
 }
 
 /// Loads a case script: evaluates its top level once (declaring parameters and the case),
 /// applies `--set` overrides, and keeps the compiled script for `ground_accel`/`post`.
 pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError> {
-    let (engine, shared, ast, _scope, _globals) = evaluate(path, options)?;
+    let (engine, shared, ast, source, sandbox) = evaluate(path, options)?;
     let mut d = shared.lock().expect("script state");
     if !d.overrides.is_empty() {
         let unknown: Vec<String> = d.overrides.keys().cloned().collect();
@@ -352,16 +377,20 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
             )));
         }
     }
-    let has_fn = |name: &str, arity: usize| {
-        ast.iter_functions()
-            .any(|f| f.name == name && f.params.len() == arity)
-    };
-    let has_ground_accel = has_fn("ground_accel", 1);
-    let has_post = has_fn("post", 1);
+    let has_ground_accel = checks::defines(path, &source, &ast, &checks::GROUND_ACCEL)?;
+    let has_post = checks::defines(path, &source, &ast, &checks::POST)?;
     let params = d.params.clone();
     let gauges = d.gauges.clone();
     let motions = d.motions.lock().expect("motion log").clone();
     drop(d);
+    let mut warnings = checks::record_coverage(path, &motions, &run)?;
+    if !has_ground_accel {
+        warnings.push(format!(
+            "{}: the script defines no fn ground_accel(t): the tank is not shaken (gravity and \
+             the initial tilt only); define fn ground_accel(t) to apply a ground motion",
+            path.display()
+        ));
+    }
     Ok(Case {
         name,
         script: path.to_path_buf(),
@@ -374,6 +403,8 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
         run,
         gauges,
         motions,
+        sandbox: (*sandbox).clone(),
+        warnings,
         excitation: Excitation {
             engine,
             ast,

@@ -1,10 +1,11 @@
 //! The sandboxed Rhai engine and the host functions a case script may call.
 
 use crate::params::{split_unit, trailing_comment, ParamDecl, ParamValue};
+use crate::sandbox::ReadSandbox;
 use crate::spec::{dynamic_to_f64, GaugeSpec};
 use rhai::{Dynamic, Engine, EvalAltResult, Map, NativeCallContext, Position};
 use std::collections::{BTreeMap, HashMap};
-use std::path::{Component, Path, PathBuf};
+use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, RwLock};
 
 /// Everything the script declared through host functions.
@@ -63,10 +64,18 @@ fn runtime_error(message: impl Into<String>) -> Box<EvalAltResult> {
 
 /// Builds the sandboxed engine with the host functions bound to `shared`, and a variable
 /// resolver that lets script functions read the script's top-level variables (`globals`).
-pub(crate) fn build_engine(shared: Shared, globals: Globals, script_dir: PathBuf) -> Engine {
+/// Host functions read files only through `sandbox`; an evaluation is stopped when it adds more
+/// than `memory_budget_bytes` to the process's memory.
+pub(crate) fn build_engine(
+    shared: Shared,
+    globals: Globals,
+    sandbox: Arc<ReadSandbox>,
+    memory_budget_bytes: u64,
+) -> Engine {
     let mut engine = Engine::new();
     let motions = shared.lock().expect("script state").motions.clone();
-    // Sandbox: limits against runaway scripts; no eval; modules are compiled out.
+    // Sandbox: limits against runaway scripts (operations, depth, the size of each value and
+    // the memory of all of them); no eval; modules are compiled out.
     engine.set_max_operations(20_000_000);
     engine.set_max_call_levels(64);
     engine.set_max_expr_depths(128, 64);
@@ -74,6 +83,7 @@ pub(crate) fn build_engine(shared: Shared, globals: Globals, script_dir: PathBuf
     engine.set_max_array_size(10_000_000);
     engine.set_max_map_size(100_000);
     engine.disable_symbol("eval");
+    crate::memory::cap_script_memory(&mut engine, memory_budget_bytes);
     engine.on_print(|text| eprintln!("[script] {text}"));
     engine.on_debug(|text, _source, pos| eprintln!("[script {pos}] {text}"));
 
@@ -228,8 +238,8 @@ pub(crate) fn build_engine(shared: Shared, globals: Globals, script_dir: PathBuf
             Ok(())
         },
     );
-    // File access for later host functions: relative to the script's folder only.
-    crate::motion_api::register_motion_api(&mut engine, script_dir, motions);
+    // File access for later host functions: through the sandbox only.
+    crate::motion_api::register_motion_api(&mut engine, sandbox, motions);
     engine
 }
 
@@ -318,42 +328,9 @@ pub(crate) fn dynamic_to_vec(d: &Dynamic) -> Option<Vec<f64>> {
     arr.iter().map(dynamic_to_f64).collect()
 }
 
-/// Resolves a path given by a script: relative to the script's folder, or else to the folder
-/// above it (the project root, where `geometry/` and `data/` live). Absolute paths and paths
-/// with `..` are refused, so a script reads only inside its project.
+/// Resolves a path given by a script in `script_dir` with the default sandbox (the script's
+/// folder and its project folder, see [`ReadSandbox`]): refused when it leaves them through
+/// `..`, an absolute path or a symlink.
 pub fn resolve_script_path(script_dir: &Path, relative: &str) -> Result<PathBuf, String> {
-    let rel = Path::new(relative);
-    if rel.is_absolute() {
-        return Err(format!(
-            "\"{relative}\": scripts may only read files relative to their own folder (or the \
-             project folder above it), not absolute paths"
-        ));
-    }
-    for c in rel.components() {
-        match c {
-            Component::Normal(_) | Component::CurDir => {}
-            Component::ParentDir => {
-                return Err(format!(
-                    "\"{relative}\" uses '..': scripts may only read files below their own \
-                     folder or the project folder above it (e.g. \"geometry/roof.obj\")"
-                ))
-            }
-            _ => return Err(format!("\"{relative}\": not a plain relative path")),
-        }
-    }
-    let script_dir = script_dir
-        .canonicalize()
-        .unwrap_or_else(|_| script_dir.to_path_buf());
-    let local = script_dir.join(rel);
-    if local.exists() {
-        return Ok(local);
-    }
-    if let Some(project) = script_dir.parent() {
-        let up = project.join(rel);
-        if up.exists() {
-            return Ok(up);
-        }
-    }
-    // Neither exists: report the path next to the script.
-    Ok(local)
+    ReadSandbox::for_script(script_dir, &[])?.resolve(relative)
 }

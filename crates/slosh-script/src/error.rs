@@ -70,6 +70,7 @@ impl ScriptError {
         }
         let message = match inner {
             rhai::EvalAltResult::ErrorRuntime(value, _) => value.to_string(),
+            rhai::EvalAltResult::ErrorTerminated(reason, _) => reason.to_string(),
             other => {
                 let text = other.to_string();
                 // Rhai appends " (line L, position C)"; the location is already given.

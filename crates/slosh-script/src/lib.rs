@@ -4,8 +4,9 @@
 //! (`tank(#{...})`), the numerics (`numerics(#{...})`) and the run (`run(#{...})`), and may
 //! define `fn ground_accel(t)` (ground acceleration in m/s² at time `t` since the excitation
 //! started) and `fn post(run)` (post-processing). The engine is sandboxed: no module imports,
-//! no `eval`, limits on operations, call depth and sizes; files are read only through host
-//! functions, relative to the script's folder, and paths that leave it are refused.
+//! no `eval`, limits on operations, call depth, sizes and the script's total memory; files
+//! are read only through host functions, below the script's folder, its project folder or an
+//! `--allow-read` folder ([`ReadSandbox`]), and paths that leave them are refused.
 //!
 //! Ground motion in scripts: `load_record(path, #{units, dt, format})` reads a PEER AT2,
 //! K-NET or plain-text record (m/s², 1 g = 9.81 m/s²) with processing methods (`scale`,
@@ -15,15 +16,22 @@
 //! [`MotionInfo`] (file, SHA-256, scaling, processing).
 
 mod case;
+mod checks;
 mod engine;
 mod error;
+mod memory;
 mod motion_api;
 mod params;
+mod sandbox;
 mod spec;
 
-pub use case::{list_params, load_case, Case, CaseOptions, Excitation, PostResult, RunData};
+pub use case::{
+    list_params, list_params_with, load_case, Case, CaseOptions, Excitation, PostResult, RunData,
+};
 pub use engine::{resolve_script_path, PlotRequest};
 pub use error::ScriptError;
+pub use memory::SCRIPT_MEMORY_BUDGET_BYTES;
 pub use motion_api::MotionInfo;
 pub use params::{parse_set_value, ParamDecl, ParamValue};
+pub use sandbox::{ReadSandbox, PROJECT_MARKER};
 pub use spec::{GaugeSpec, Resolution, RunSpec, TankSpec};

@@ -6,7 +6,8 @@
 //! ```
 //!
 //! * `load_record(path)` / `load_record(path, #{units, dt, format})` → `Record`. The path is
-//!   relative to the script's folder (absolute paths and paths leaving the folder are refused).
+//!   looked up below the script's folder, then its project folder and the `--allow-read`
+//!   folders ([`ReadSandbox`]); a path that leaves them is refused.
 //!   `format`: `"at2"` (PEER NGA, in g), `"knet"` (K-NET / KiK-net ASCII, in gal) or `"csv"`
 //!   (plain text: two columns time, accel — or one column with `dt`); without `format` the
 //!   reader is chosen from the file (`.at2` name, K-NET header) and anything else is plain
@@ -32,12 +33,11 @@
 //! when a record is processed further, its log entry follows the newest record derived from
 //! it, and a second branch derived from an older stage gets an entry of its own.
 
-use crate::engine::resolve_script_path;
+use crate::sandbox::ReadSandbox;
 use crate::spec::{dynamic_to_f64, MapReader};
 use rhai::{Array, Dynamic, Engine, EvalAltResult, Map, Position};
 use serde::Serialize;
 use slosh_motion::{AccelUnit, Excitation, PlainTextOptions, Record, RecordFormat, Sine};
-use std::path::{Path, PathBuf};
 use std::str::FromStr;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -67,6 +67,12 @@ pub struct MotionInfo {
     pub duration_s: f64,
     /// Time of the first sample after processing (moved by `shift`), s.
     pub start_time_s: f64,
+    /// Time of the last sample after processing, s, on the clock of `ground_accel(t)` (time
+    /// since the excitation started): the motion is zero after it.
+    pub end_time_s: f64,
+    /// What the reader found suspicious in the file (e.g. a stated duration the data does
+    /// not fill), one sentence each.
+    pub warnings: Vec<String>,
     /// Every operation applied, reading included, in order.
     pub processing: Vec<String>,
     /// Version of the newest record derived from this entry (see the module docs).
@@ -115,20 +121,19 @@ fn number(value: &Dynamic, what: &str) -> Result<f64, Box<EvalAltResult>> {
 }
 
 /// Registers `load_record`, the `Record` and `Excitation` types with their methods, `sine`,
-/// `sines` and `+`. Files are read relative to `script_dir`; every record read goes to `log`.
-pub(crate) fn register_motion_api(engine: &mut Engine, script_dir: PathBuf, log: MotionLog) {
+/// `sines` and `+`. Files are read through `sandbox`; every record read goes to `log`.
+pub(crate) fn register_motion_api(engine: &mut Engine, sandbox: Arc<ReadSandbox>, log: MotionLog) {
     engine.register_type_with_name::<ScriptRecord>("Record");
     engine.register_type_with_name::<ScriptExcitation>("Excitation");
-    let script_dir: Arc<Path> = Arc::from(script_dir.as_path());
 
-    let (dir, lg) = (script_dir.clone(), log.clone());
+    let (dir, lg) = (sandbox.clone(), log.clone());
     engine.register_fn(
         "load_record",
         move |file: &str| -> Result<ScriptRecord, Box<EvalAltResult>> {
             load_record(&dir, &lg, file, &Map::new())
         },
     );
-    let (dir, lg) = (script_dir, log.clone());
+    let (dir, lg) = (sandbox, log.clone());
     engine.register_fn(
         "load_record",
         move |file: &str, options: Map| -> Result<ScriptRecord, Box<EvalAltResult>> {
@@ -337,7 +342,7 @@ pub(crate) fn register_motion_api(engine: &mut Engine, script_dir: PathBuf, log:
 
 /// Reads a record for `load_record` and logs it.
 fn load_record(
-    script_dir: &Path,
+    sandbox: &ReadSandbox,
     log: &MotionLog,
     file: &str,
     options: &Map,
@@ -354,7 +359,7 @@ fn load_record(
     } else {
         Some(AccelUnit::from_str(&units).map_err(|e| fail(e.to_string()))?)
     };
-    let path = resolve_script_path(script_dir, file).map_err(fail)?;
+    let path = sandbox.resolve(file).map_err(fail)?;
     let plain = PlainTextOptions {
         units: units.unwrap_or(AccelUnit::MetersPerSecondSquared),
         dt_s: dt,
@@ -403,6 +408,8 @@ fn load_record(
         pga_m_s2: record.pga_m_s2(),
         duration_s: record.duration_s(),
         start_time_s: record.start_time_s,
+        end_time_s: record.end_time_s(),
+        warnings: record.warnings.clone(),
         processing: record.processing_log.clone(),
         newest_version: version,
     };
@@ -446,6 +453,7 @@ fn derive(
     entry.pga_m_s2 = record.pga_m_s2();
     entry.duration_s = record.duration_s();
     entry.start_time_s = record.start_time_s;
+    entry.end_time_s = record.end_time_s();
     entry.processing = record.processing_log.clone();
     entry.newest_version = version;
     Ok(ScriptRecord {

@@ -161,6 +161,21 @@ pub enum TankSpec {
     },
 }
 
+impl Default for TankSpec {
+    /// The paper's §3.1 section: 1.0 m wide, 1.0 m high, 0.5 m of water, closed, flat surface.
+    fn default() -> Self {
+        TankSpec::Rect {
+            width: 1.0,
+            height: 1.0,
+            depth: 0.5,
+            roof: true,
+            layout: "offset".into(),
+            tilt: 0.0,
+            tilt_shape: "plane".into(),
+        }
+    }
+}
+
 /// Reads `tilt_shape` ("plane" by default, or "mode1").
 fn tilt_shape(r: &mut MapReader) -> Result<String, String> {
     let shape = r.str_or("tilt_shape", "plane")?;

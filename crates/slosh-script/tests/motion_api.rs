@@ -33,10 +33,11 @@ fn write_at2(path: &Path) {
     std::fs::write(path, text).unwrap();
 }
 
-/// A case script with `body` before the tank and `ground_accel` returning `accel`.
+/// A case script with `body` before the tank and `ground_accel` returning `accel`; the run
+/// (0.02 s, no settling) is no longer than the test records, which would otherwise end before it.
 fn case_script(dir: &Path, body: &str, accel: &str) -> PathBuf {
     let script = format!(
-        "{body}\ntank(#{{ shape: \"rect\", width: 1.0, height: 1.0, depth: 0.5 }});\nfn ground_accel(t) {{ {accel} }}\n"
+        "{body}\ntank(#{{ shape: \"rect\", width: 1.0, height: 1.0, depth: 0.5 }});\nrun(#{{ settle: 0.0, duration: 0.02 }});\nfn ground_accel(t) {{ {accel} }}\n"
     );
     let path = dir.join("case.rhai");
     std::fs::write(&path, script).unwrap();

@@ -86,6 +86,61 @@ impl TankInput {
             sine: None,
         }
     }
+
+    /// Checks that the input describes a real tank and excitation: positive finite sizes,
+    /// density, gravity and sine, a roof above the liquid, non-negative finite accelerations.
+    /// The error lists every value that is wrong, by name, with its unit and value.
+    pub fn check(&self) -> Result<(), String> {
+        let mut problems = Vec::new();
+        let mut positive = |name: &str, unit: &str, value: f64| {
+            if !(value.is_finite() && value > 0.0) {
+                problems.push(format!(
+                    "{name} must be a positive finite number of {unit}, got {value}"
+                ));
+            }
+        };
+        match self.shape {
+            TankShape::Rectangular { width } => positive("width", "m", width),
+            TankShape::Cylindrical { radius } => positive("radius", "m", radius),
+        }
+        positive("depth", "m", self.depth);
+        positive("density", "kg/m³", self.density);
+        positive("gravity", "m/s²", self.gravity);
+        if let Some(height) = self.tank_height {
+            positive("tank_height", "m", height);
+        }
+        if let Some(sine) = self.sine {
+            positive("amplitude", "m", sine.amplitude);
+            positive("omega", "rad/s", sine.omega);
+            positive("sine duration", "s", sine.duration);
+        }
+        for (name, unit, value) in [
+            ("pga", "m/s²", self.peak_ground_accel),
+            ("sa", "g", self.spectral_accel_g),
+        ] {
+            if let Some(v) = value.filter(|v| !(v.is_finite() && *v >= 0.0)) {
+                problems.push(format!(
+                    "{name} must be a non-negative finite number of {unit}, got {v}"
+                ));
+            }
+        }
+        if let Some(height) = self
+            .tank_height
+            .filter(|h| h.is_finite() && self.depth.is_finite())
+        {
+            if height <= self.depth {
+                problems.push(format!(
+                    "the roof (tank_height {height} m) must be above the liquid (depth {} m)",
+                    self.depth
+                ));
+            }
+        }
+        if problems.is_empty() {
+            Ok(())
+        } else {
+            Err(problems.join("; "))
+        }
+    }
 }
 
 /// One natural mode.
