@@ -242,7 +242,7 @@ fn fuzz_script_api() {
         std::env::temp_dir().join(format!("slosh-script-fuzz-{}", std::process::id()));
     workspace(&dir);
     let path = dir.join("case.rhai");
-    fuzz("script API", cases(3000), script(), |text| {
+    fuzz("script API", cases(2000), script(), |text| {
         exercise(&path, &text)
     });
     eprintln!(
