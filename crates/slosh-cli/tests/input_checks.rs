@@ -197,3 +197,39 @@ fn allow_read_opens_a_folder_for_run_and_list_params() {
     ]);
     assert!(ok, "{stderr}");
 }
+
+#[test]
+fn sweep_passes_allow_read_to_its_cases() {
+    let dir = temp("sweep_allow_read");
+    let shared = temp("sweep_allow_read_records");
+    let record = shared.join("r.at2");
+    let mut at2 =
+        String::from("t\nt\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS= 11, DT= 0.01\n");
+    at2.push_str("0.0 0.1 0.2 0.1 0.0 -0.1 -0.2 -0.1 0.0 0.0 0.0\n");
+    std::fs::write(&record, at2).unwrap();
+    let case = dir.join("case.rhai");
+    let script = SMALL_CASE.replace(
+        "fn ground_accel(t) { 0.5 * sin(20.0 * t) }",
+        &format!(
+            "let gm = load_record(\"{}\");\nfn ground_accel(t) {{ gm.at(t) }}",
+            record.display()
+        ),
+    );
+    std::fs::write(&case, script).unwrap();
+    let out = dir.join("sweep");
+    let args = [
+        "sweep",
+        case.to_str().unwrap(),
+        "--vary",
+        "depth=0.2",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ];
+    let (ok, _, stderr) = run(&args);
+    assert!(!ok && stderr.contains("--allow-read"), "{stderr}");
+    let mut widened = args.to_vec();
+    widened.extend(["--allow-read", shared.to_str().unwrap()]);
+    let (ok, _, stderr) = run(&widened);
+    assert!(ok, "{stderr}");
+}

@@ -242,11 +242,34 @@ fn fuzz_script_api() {
         std::env::temp_dir().join(format!("slosh-script-fuzz-{}", std::process::id()));
     workspace(&dir);
     let path = dir.join("case.rhai");
-    fuzz("script API", cases(3000), script(), |text| {
+    fuzz("script API", cases(2000), script(), |text| {
         exercise(&path, &text)
     });
     eprintln!(
         "fuzz script API: {} scripts loaded into a case, the rest refused with a message",
         LOADED.load(Ordering::Relaxed)
     );
+}
+
+#[test]
+fn deeply_nested_scripts_are_refused_not_aborted() {
+    let dir = std::env::temp_dir().join(format!("slosh-script-deep-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("deep.rhai");
+    let n = 100_000;
+    for text in [
+        format!("let x = {}1{};", "(".repeat(n), ")".repeat(n)),
+        format!("let x = {}{};", "[".repeat(n), "]".repeat(n)),
+        format!("let x = {}1;", "- ".repeat(n)),
+        format!("let x = 1{};", " + 1".repeat(n)),
+        format!("if true {}{}", "{".repeat(n), "}".repeat(n)),
+        "fn f(x) { f(x + 1) }\nlet y = f(0);".to_string(),
+    ] {
+        std::fs::write(&path, &text).unwrap();
+        let message = match load_case(&path, &CaseOptions::default()) {
+            Ok(_) => panic!("a deeply nested script was accepted"),
+            Err(e) => e.to_string(),
+        };
+        assert!(message.contains("deep.rhai:"), "{message}");
+    }
 }
