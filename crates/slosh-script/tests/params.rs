@@ -71,6 +71,7 @@ fn set_twice_for_one_name_is_an_error_naming_it() {
             ("width".into(), parse_set_value("0.5")),
             ("width".into(), parse_set_value("0.6")),
         ],
+        ..CaseOptions::default()
     };
     let err = load_case(&path, &options).err().expect("refused");
     let text = err.to_string();
@@ -84,6 +85,7 @@ fn non_finite_set_values_are_refused() {
     for value in ["inf", "nan"] {
         let options = CaseOptions {
             overrides: vec![("width".into(), parse_set_value(value))],
+            ..CaseOptions::default()
         };
         let text = load_case(&path, &options)
             .err()
