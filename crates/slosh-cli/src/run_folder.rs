@@ -195,10 +195,12 @@ fn remove_earlier_outputs(dir: &Path) -> Result<()> {
     }
     for d in GENERATED_DIRS {
         let p = dir.join(d);
-        if p.exists() {
-            std::fs::remove_dir_all(&p)
-                .with_context(|| format!("cannot remove the earlier run's {}", p.display()))?;
-        }
+        let removed = match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.is_dir() => std::fs::remove_dir_all(&p),
+            Ok(_) => std::fs::remove_file(&p),
+            Err(_) => Ok(()),
+        };
+        removed.with_context(|| format!("cannot remove the earlier run's {}", p.display()))?;
     }
     Ok(())
 }

@@ -864,7 +864,13 @@ fn touched_roof(names: &[(String, String)], history: &[Vec<f64>], step_peak: f64
 /// Writes `series.csv` (and its units file) again with every column, the filtered load
 /// columns appended after the raw ones.
 fn rewrite_series(path: &Path, names: &[(String, String)], history: &[Vec<f64>]) -> Result<()> {
-    let mut writer = SeriesWriter::create(path, names)?;
+    // Written in a folder of its own beside the series, then both files renamed into place:
+    // the streamed series stays whole until the new one is complete.
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let staging = dir.join(".series-rewrite");
+    std::fs::create_dir_all(&staging)?;
+    let staged = staging.join(path.file_name().unwrap_or("series.csv".as_ref()));
+    let mut writer = SeriesWriter::create(&staged, names)?;
     let rows = history.first().map_or(0, Vec::len);
     let mut row = Vec::with_capacity(history.len());
     for r in 0..rows {
@@ -873,6 +879,11 @@ fn rewrite_series(path: &Path, names: &[(String, String)], history: &[Vec<f64>])
         writer.write_row(&row)?;
     }
     writer.flush()?;
+    let staged_units = writer.units_path().to_path_buf();
+    drop(writer);
+    std::fs::rename(&staged_units, slosh_io::units_path_for(path))?;
+    std::fs::rename(&staged, path)?;
+    std::fs::remove_dir(&staging)?;
     Ok(())
 }
 

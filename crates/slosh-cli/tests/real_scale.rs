@@ -260,6 +260,9 @@ fn earlier_run_outputs_are_removed_and_foreign_folders_refused() {
     assert!(!summary.contains("\"old\""), "{summary}");
     assert!(!out.join("plots/fig7_a.png").exists());
     assert!(!out.join("frames").exists());
+    // The series rewritten with its low-pass columns left no staging folder behind.
+    assert!(!out.join(".series-rewrite").exists());
+    assert!(out.join("series_units.csv").exists());
     let foreign = dir.join("mine");
     std::fs::create_dir_all(&foreign).unwrap();
     std::fs::write(foreign.join("notes.txt"), "keep").unwrap();

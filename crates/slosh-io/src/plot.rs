@@ -172,10 +172,28 @@ fn render<F: Figure>(path: &Path, fig: &F) -> Result<()> {
     render_two(path, fig, fig)
 }
 
-/// Draws `png_fig` into `<path>.png` and `svg_fig` into `<path>.svg`.
+/// Draws `png_fig` into `<path>.png` and `svg_fig` into `<path>.svg`, each first into a
+/// temporary sibling (`<path>.part.png`, `.part.svg`) renamed into place when complete, so a
+/// plot is never seen half-drawn.
 fn render_two<A: Figure, B: Figure>(path: &Path, png_fig: &A, svg_fig: &B) -> Result<()> {
-    let png = with_ext(path, "png");
-    let svg = with_ext(path, "svg");
+    let (png_part, svg_part) = (with_ext(path, "part.png"), with_ext(path, "part.svg"));
+    let drawn = draw_two(&png_part, &svg_part, png_fig, svg_fig).and_then(|()| {
+        for (part, ext) in [(&png_part, "png"), (&svg_part, "svg")] {
+            let done = with_ext(path, ext);
+            std::fs::rename(part, &done).map_err(|e| IoError::io(&done, e))?;
+        }
+        Ok(())
+    });
+    if drawn.is_err() {
+        let _ = std::fs::remove_file(&png_part);
+        let _ = std::fs::remove_file(&svg_part);
+    }
+    drawn
+}
+
+/// Draws the two figures into `png` and `svg`.
+fn draw_two<A: Figure, B: Figure>(png: &Path, svg: &Path, png_fig: &A, svg_fig: &B) -> Result<()> {
+    let (png, svg) = (png.to_path_buf(), svg.to_path_buf());
     ensure_parent(&png)?;
     if !ensure_font() {
         return Err(IoError::Plot {

@@ -36,6 +36,15 @@ fn check_pair(base: &Path, title: &str) {
     assert!(s.starts_with("<svg") || s.starts_with("<?xml"));
     assert!(s.contains(title), "SVG contains the title");
     assert!(s.trim_end().ends_with("</svg>"));
+    // Drawn into temporary siblings and renamed: none is left behind.
+    let dir = base.parent().unwrap();
+    let parts: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().to_string())
+        .filter(|n| n.contains(".part."))
+        .collect();
+    assert!(parts.is_empty(), "{parts:?}");
 }
 
 #[test]
