@@ -195,6 +195,7 @@ fn parse_at2_bytes(bytes: &[u8], source: &str) -> Result<Record> {
     }
     let factor = AccelUnit::G.to_m_s2();
     let accel: Vec<f64> = values.iter().map(|v| v * factor).collect();
+    check_finite_samples(&accel, source)?;
     Ok(Record {
         dt_s,
         start_time_s: 0.0,
@@ -372,6 +373,7 @@ fn parse_knet_bytes(bytes: &[u8], source: &str) -> Result<Record> {
     let mean_gal = gal.iter().sum::<f64>() / npts as f64;
     let to_m_s2 = AccelUnit::Gal.to_m_s2();
     let accel: Vec<f64> = gal.iter().map(|a| (a - mean_gal) * to_m_s2).collect();
+    check_finite_samples(&accel, source)?;
     Ok(Record {
         dt_s,
         start_time_s: 0.0,
@@ -648,6 +650,7 @@ fn parse_plain_text_bytes(
         (dt_s, accel, dt_s)
     };
     check_sample_interval(dt_s, accel.len(), source, rows[0].0)?;
+    check_finite_samples(&accel, source)?;
     Ok(Record {
         dt_s,
         start_time_s: 0.0,
@@ -687,5 +690,19 @@ pub fn read_record(path: impl AsRef<Path>, plain_options: &PlainTextOptions) -> 
         parse_at2_bytes(&bytes, &source)
     } else {
         parse_plain_text_bytes(&bytes, &source, plain_options)
+    }
+}
+
+/// Refuses a record whose accelerations are not all finite after its units and scale factor
+/// were applied (a scale factor such as `1(gal)/1e-300`, or values near the largest number).
+fn check_finite_samples(accel: &[f64], source: &str) -> Result<()> {
+    match accel.iter().position(|a| !a.is_finite()) {
+        None => Ok(()),
+        Some(k) => Err(MotionError::InvalidArgument(format!(
+            "{source}: sample {} is not finite after the units and scale factor were applied \
+             ({}); check the scale factor and the values",
+            k + 1,
+            accel[k]
+        ))),
     }
 }

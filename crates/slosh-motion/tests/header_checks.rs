@@ -101,6 +101,22 @@ fn knet_absurd_sampling_frequency_is_an_error() {
     assert!(e.to_string().contains("f.NS:11"), "{e}");
 }
 
+/// Found by the fuzz target: a scale factor with a tiny denominator turns counts into
+/// infinite accelerations, which must be refused, not handed to the solver as NaN.
+#[test]
+fn knet_scale_factor_giving_infinite_accelerations_is_an_error() {
+    let text =
+        knet_text("1", 100).replace("7845(gal)/8223790", ".02(gal)/1e-300") + "99999999999\n";
+    let e = parse_knet(&text, "f.NS").unwrap_err();
+    assert!(e.to_string().contains("not finite"), "{e}");
+    let e = parse_at2(
+        &at2_text("NPTS=    2, DT= .01000 SEC", "1e308 1e308\n"),
+        "big.at2",
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("not finite"), "{e}");
+}
+
 #[test]
 fn plain_text_time_column_not_in_seconds_is_an_error() {
     let opts = PlainTextOptions::two_column(AccelUnit::G);

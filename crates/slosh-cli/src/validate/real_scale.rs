@@ -46,6 +46,12 @@ const SLOPE_GAP: &str = "the same bias is in the 0.5 m laboratory tank at the pa
 /// What is known of the paper scheme's still level beyond 0.5 %.
 const PAPER_LEVEL_GAP: &str = "the paper scheme's summation density starts from a uniform \
     lattice at ρ0 and its surface rows sit below the Tait level by a further ≈ 0.2 %";
+/// What is known of a real-scale forced comparison beyond the laboratory tolerance.
+const FORCED_GAP: &str = "the free-decay row of this cylinder measures a numerical damping \
+    ζ = 2.2 % at 24 particles per radius (2D sections at the same resolution: 0.6–0.75 %); \
+    undamped linear theory keeps the free transient the SPH damps over the 19.6 s (3.8 \
+    periods) — the suspected cause, not yet tested; the damping is the fidelity work's \
+    subject";
 /// EN 1998-4 (Annex A) assumes 0.5 % damping for the convective mode.
 const EC8_CONVECTIVE_DAMPING: f64 = 0.005;
 
@@ -480,12 +486,28 @@ pub fn cylinder(ctx: &Context) -> Vec<(String, GroupResult)> {
         ),
         (
             "Real-scale cylinder: forced response".into(),
-            GroupResult::or_failed_run(
-                "Real-scale forced",
-                cylinder_forced_inner(ctx, "Real-scale forced", &REAL_FORCED),
-            ),
+            real_forced(ctx),
         ),
     ]
+}
+
+/// The forced real-scale cylinder, its comparisons beyond the laboratory tolerance marked
+/// OPEN with what is known of the cause.
+fn real_forced(ctx: &Context) -> GroupResult {
+    let group = "Real-scale forced";
+    let mut g = GroupResult::or_failed_run(group, cylinder_forced_inner(ctx, group, &REAL_FORCED));
+    g.checks = g
+        .checks
+        .into_iter()
+        .map(|c| {
+            if c.name.starts_with("normalised RMS difference") {
+                open_if_failed(c, FORCED_GAP)
+            } else {
+                c
+            }
+        })
+        .collect();
+    g
 }
 
 /// The 24 m cylinder's free-sloshing period at 48 particles per radius (≈ 600k particles;

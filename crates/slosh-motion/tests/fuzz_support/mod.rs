@@ -2,11 +2,14 @@
 //! bounded number of proptest cases of a target, catches panics (a panic fails the case and is
 //! shrunk to a small input), measures the largest single allocation each case makes, and prints
 //! the case count and time. `SLOSH_FUZZ_CASES=N` runs N cases per target instead of the default.
+//! The cases are drawn from a fixed seed per target, so that the test suite gives the same
+//! verdict on every run; `SLOSH_FUZZ_SEED=N` draws other cases and `SLOSH_FUZZ_SEED=random`
+//! fresh ones (a fuzzing session rather than a regression test).
 
 #![allow(dead_code)] // each test binary uses only some helpers
 
 use proptest::strategy::Strategy;
-use proptest::test_runner::{Config, TestCaseError, TestRunner};
+use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::time::Instant;
@@ -63,9 +66,18 @@ pub fn fuzz<S: Strategy>(
     strategy: S,
     target: impl Fn(S::Value) -> Result<(), String>,
 ) {
+    let seed = match std::env::var("SLOSH_FUZZ_SEED").ok().as_deref() {
+        Some("random") => RngSeed::Random,
+        Some(n) => n.parse().map(RngSeed::Fixed).unwrap_or(RngSeed::Random),
+        // The target's name, hashed (FNV-1a): a fixed stream of cases per target.
+        None => RngSeed::Fixed(name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+        })),
+    };
     let config = Config {
         cases,
         failure_persistence: None,
+        rng_seed: seed,
         ..Config::default()
     };
     let mut runner = TestRunner::new(config);
@@ -74,7 +86,7 @@ pub fn fuzz<S: Strategy>(
         target(input).map_err(TestCaseError::fail)
     });
     let seconds = start.elapsed().as_secs_f64();
-    eprintln!("fuzz {name}: {cases} cases in {seconds:.2} s");
+    eprintln!("fuzz {name}: {cases} cases in {seconds:.2} s (seed {seed:?})");
     if let Err(e) = result {
         panic!("fuzz {name}: {e}");
     }
