@@ -30,7 +30,7 @@ pub struct RunOptions {
     pub max_memory_bytes: Option<f64>,
 }
 
-/// The summary written to `summary.ron` (DESIGN.md §4). `Default` gives its layout with zeros
+/// The summary written to `summary.ron` (the fields are listed in the README, *Outputs*). `Default` gives its layout with zeros
 /// (a sweep names its `sweep.csv` columns from it before any case has run).
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Summary {
