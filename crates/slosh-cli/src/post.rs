@@ -56,11 +56,11 @@ pub fn write_post_outputs(out: &Path, result: &PostResult) -> Result<()> {
     let dir = out.join("post");
     std::fs::create_dir_all(&dir)?;
     for (name, header, rows) in &result.tables {
-        let mut w = TableWriter::create(dir.join(format!("{name}.csv")), header)?;
+        let mut w = TableWriter::create_whole(dir.join(format!("{name}.csv")), header)?;
         for r in rows {
             w.write_row(r)?;
         }
-        w.flush()?;
+        w.finish()?;
     }
     for p in &result.plots {
         slosh_io::line_plot(

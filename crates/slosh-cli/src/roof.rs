@@ -200,7 +200,7 @@ impl<const D: usize> RoofMonitor<D> {
                 &idx,
                 &self.map,
             )?;
-            let mut table = slosh_io::TableWriter::create(
+            let mut table = slosh_io::TableWriter::create_whole(
                 out.join("roof_points.csv"),
                 &["index", "x", "y", "z", "area", "p_peak", "t_peak"],
             )?;
@@ -217,7 +217,7 @@ impl<const D: usize> RoofMonitor<D> {
                     t_peak[i],
                 ])?;
             }
-            table.flush()?;
+            table.finish()?;
             let points: Vec<[f64; 3]> = self.positions.iter().map(|p| [p[0], p[1], p[2]]).collect();
             slosh_io::write_vtp(
                 out.join("roof_points.vtp"),

@@ -226,7 +226,7 @@ pub fn write_input_spectrum(
         .pseudo_accel_m_s2[0];
 
     let csv = out.join("input_spectrum.csv");
-    let mut table = TableWriter::create(
+    let mut table = TableWriter::create_whole(
         &csv,
         &[
             "period_s",
@@ -244,7 +244,7 @@ pub fn write_input_spectrum(
     {
         table.write_row(&[t, sa5, sa5 / g, sa05, sa05 / g])?;
     }
-    table.flush()?;
+    table.finish()?;
 
     let sa5_g: Vec<f64> = structural.pseudo_accel_m_s2.iter().map(|a| a / g).collect();
     let sa05_g: Vec<f64> = convective.pseudo_accel_m_s2.iter().map(|a| a / g).collect();

@@ -913,7 +913,7 @@ fn write_table(path: &Path, varies: &[Vary], results: &[Done]) -> Result<()> {
         .skip(fixed)
         .map(|(i, k)| (k.clone(), i))
         .collect();
-    let mut table = slosh_io::TableWriter::create(path, &header)
+    let mut table = slosh_io::TableWriter::create_whole(path, &header)
         .with_context(|| format!("cannot write the sweep table {}", path.display()))?;
     for d in results {
         let mut row = vec![String::new(); header.len()];
@@ -933,7 +933,7 @@ fn write_table(path: &Path, varies: &[Vary], results: &[Done]) -> Result<()> {
             .with_context(|| format!("cannot write the sweep table {}", path.display()))?;
     }
     table
-        .flush()
+        .finish()
         .with_context(|| format!("cannot write the sweep table {}", path.display()))?;
     Ok(())
 }

@@ -342,3 +342,41 @@ fn a_run_that_cannot_fit_in_memory_is_refused_at_once() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success() && err.contains("--max-memory"), "{err}");
 }
+
+/// A plot that cannot be written (here: a file stands where the plots folder goes) is listed
+/// in the summary's `output_errors`; the summary is written all the same and the run says so.
+#[test]
+fn a_plot_that_cannot_be_written_still_leaves_the_summary() {
+    let dir = temp("plot_fails");
+    let c = case(
+        &dir,
+        "width: 0.8, height: 0.6, depth: 0.4",
+        "dx: 0.02",
+        3.0,
+        "0.0",
+    );
+    let out = dir.join("out");
+    let child = Command::new(env!("CARGO_BIN_EXE_slosh"))
+        .args(["run", c.to_str().unwrap(), "--quiet", "--out"])
+        .arg(&out)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Once the run has started (its folder cleaned, rows coming), block the plots folder.
+    let started = std::time::Instant::now();
+    while std::fs::read_to_string(out.join("series.csv")).map_or(true, |t| t.lines().count() < 5) {
+        assert!(started.elapsed().as_secs() < 60, "the run did not start");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    std::fs::write(out.join("plots"), "not a folder").unwrap();
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(err.contains("some outputs could not be written"), "{err}");
+    let summary = std::fs::read_to_string(out.join("summary.ron")).unwrap();
+    assert!(summary.contains("status: \"completed\""), "{summary}");
+    assert!(
+        summary.contains("output_errors: [\n        \"plots:"),
+        "{summary}"
+    );
+}

@@ -38,6 +38,9 @@ pub fn format_f64(x: f64) -> String {
 pub struct TableWriter {
     path: PathBuf,
     writer: csv::Writer<File>,
+    /// For a table written whole: the file it becomes at [`TableWriter::finish`] (`path` is
+    /// then its temporary `.part` sibling).
+    finished_path: Option<PathBuf>,
     columns: Vec<String>,
     rows: usize,
     flush_interval: Duration,
@@ -56,11 +59,26 @@ impl std::fmt::Debug for TableWriter {
 }
 
 impl TableWriter {
-    /// Creates (truncating) the CSV file at `path` (creating its folder) and writes the header.
+    /// Creates (truncating) the CSV file at `path` (creating its folder) and writes the header;
+    /// rows appear in the file as they are written (a time series a user may watch).
     ///
     /// Column names must be non-empty and distinct.
     pub fn create<S: AsRef<str>>(path: impl AsRef<Path>, header: &[S]) -> Result<Self> {
+        Self::create_at(path.as_ref().to_path_buf(), header)
+    }
+
+    /// Creates a table that appears only whole: it is written to `<path>.part` and renamed to
+    /// `path` by [`TableWriter::finish`], so a reader never sees it half-written.
+    pub fn create_whole<S: AsRef<str>>(path: impl AsRef<Path>, header: &[S]) -> Result<Self> {
         let path = path.as_ref().to_path_buf();
+        let mut part = path.clone().into_os_string();
+        part.push(".part");
+        let mut table = Self::create_at(PathBuf::from(part), header)?;
+        table.finished_path = Some(path);
+        Ok(table)
+    }
+
+    fn create_at<S: AsRef<str>>(path: PathBuf, header: &[S]) -> Result<Self> {
         let columns: Vec<String> = header.iter().map(|s| s.as_ref().to_string()).collect();
         if columns.is_empty() {
             return Err(IoError::invalid(&path, "a table needs at least one column"));
@@ -89,6 +107,7 @@ impl TableWriter {
         Ok(Self {
             path,
             writer,
+            finished_path: None,
             fields: Vec::with_capacity(columns.len()),
             columns,
             rows: 0,
@@ -153,6 +172,16 @@ impl TableWriter {
     pub fn flush(&mut self) -> Result<()> {
         self.last_flush = Instant::now();
         self.writer.flush().map_err(|e| IoError::io(&self.path, e))
+    }
+
+    /// Writes the buffered rows and, for a table made by [`TableWriter::create_whole`],
+    /// renames it into place.
+    pub fn finish(mut self) -> Result<()> {
+        self.flush()?;
+        if let Some(done) = self.finished_path.take() {
+            std::fs::rename(&self.path, &done).map_err(|e| IoError::io(&done, e))?;
+        }
+        Ok(())
     }
 
     /// The file being written.
@@ -299,7 +328,7 @@ pub fn write_grid_csv(
     }
     let mut header = vec![row_name.to_string()];
     header.extend(col_coords.iter().map(|&c| format_f64(c)));
-    let mut w = TableWriter::create(path, &header)?;
+    let mut w = TableWriter::create_whole(path, &header)?;
     w.set_flush_interval(Duration::MAX);
     let mut row = Vec::with_capacity(col_coords.len() + 1);
     for (i, &r) in row_coords.iter().enumerate() {
@@ -308,7 +337,7 @@ pub fn write_grid_csv(
         row.extend_from_slice(&values[i * col_coords.len()..(i + 1) * col_coords.len()]);
         w.write_row(&row)?;
     }
-    w.flush()
+    w.finish()
 }
 
 /// A numeric CSV table read back into memory (see [`read_table`]).
