@@ -178,6 +178,16 @@ fn resolution_per_depth_and_lattice_fit() {
         "{summary}"
     );
     assert!(summary.contains("tank height 0.95 m →"), "{summary}");
+    // 0.5 m is 16.5 rows of 1/33 m: the fill takes 16 rows, and the summary's tank and its
+    // theory period are those of the depth simulated.
+    assert!(summary.contains("fill depth 0.5 m → 0.4848"), "{summary}");
+    let depth = 16.0 / 33.0;
+    let k = std::f64::consts::PI;
+    let period = 2.0 * k / (9.81 * k * (k * depth).tanh()).sqrt();
+    assert!(
+        (field(&summary, "period_1") - period).abs() < 1e-9,
+        "{summary}"
+    );
     let c = case(
         &dir,
         "width: 1.0, height: 1.0, depth: 0.5",
@@ -230,6 +240,47 @@ fn locked_folder_is_refused_with_the_holder() {
     assert!(ok, "{err}");
     assert!(summary.contains("status: \"completed\""));
     assert!(!out.join(".slosh.lock").exists());
+}
+
+/// Two runs started into one folder: the second is refused, naming the first's pid, and the
+/// first completes with its own series.
+#[test]
+fn a_second_run_into_a_busy_folder_is_refused() {
+    let dir = temp("two_runs");
+    let c = case(
+        &dir,
+        "width: 0.8, height: 0.6, depth: 0.4",
+        "dx: 0.02",
+        2.0,
+        "0.0",
+    );
+    let out = dir.join("out");
+    let first = Command::new(env!("CARGO_BIN_EXE_slosh"))
+        .args(["run", c.to_str().unwrap(), "--quiet", "--out"])
+        .arg(&out)
+        .spawn()
+        .unwrap();
+    let started = std::time::Instant::now();
+    while std::fs::read_to_string(out.join("series.csv")).map_or(true, |t| t.lines().count() < 3) {
+        assert!(
+            started.elapsed().as_secs() < 60,
+            "the first run did not start"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let (ok, err, _) = run(&c, &out);
+    assert!(!ok);
+    assert!(err.contains(&format!("pid {}", first.id())), "{err}");
+    let o = first.wait_with_output().unwrap();
+    assert!(o.status.success());
+    let summary = std::fs::read_to_string(out.join("summary.ron")).unwrap();
+    assert!(summary.contains("status: \"completed\""), "{summary}");
+    let series = slosh_io::read_table(out.join("series.csv")).unwrap();
+    let t = series.column("t").unwrap();
+    assert!(
+        t.windows(2).all(|w| w[1] > w[0]),
+        "time goes forward in one run's series"
+    );
 }
 
 /// A rerun in a folder of an earlier run removes that run's outputs first (its summary,
