@@ -45,6 +45,17 @@ fn run(case: &Path, out: &Path) -> (bool, String, String) {
     (o.status.success(), stderr, summary)
 }
 
+/// Waits until the run writing `out` has `lines` lines in its `series.csv` (at most 60 s).
+fn wait_for_rows(out: &Path, lines: usize) {
+    let started = std::time::Instant::now();
+    while std::fs::read_to_string(out.join("series.csv"))
+        .map_or(true, |t| t.lines().count() < lines)
+    {
+        assert!(started.elapsed().as_secs() < 60, "the run did not start");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
 /// The number after `key: ` in a summary.
 fn field(summary: &str, key: &str) -> f64 {
     let start = summary
@@ -260,14 +271,7 @@ fn a_second_run_into_a_busy_folder_is_refused() {
         .arg(&out)
         .spawn()
         .unwrap();
-    let started = std::time::Instant::now();
-    while std::fs::read_to_string(out.join("series.csv")).map_or(true, |t| t.lines().count() < 3) {
-        assert!(
-            started.elapsed().as_secs() < 60,
-            "the first run did not start"
-        );
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
+    wait_for_rows(&out, 3);
     let (ok, err, _) = run(&c, &out);
     assert!(!ok);
     assert!(err.contains(&format!("pid {}", first.id())), "{err}");
@@ -414,11 +418,7 @@ fn a_plot_that_cannot_be_written_still_leaves_the_summary() {
         .spawn()
         .unwrap();
     // Once the run has started (its folder cleaned, rows coming), block the plots folder.
-    let started = std::time::Instant::now();
-    while std::fs::read_to_string(out.join("series.csv")).map_or(true, |t| t.lines().count() < 5) {
-        assert!(started.elapsed().as_secs() < 60, "the run did not start");
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
+    wait_for_rows(&out, 5);
     std::fs::write(out.join("plots"), "not a folder").unwrap();
     let o = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
