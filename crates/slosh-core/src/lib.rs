@@ -32,6 +32,8 @@ pub use sound_speed::SoundSpeedChoice;
 #[cfg(test)]
 mod test_tank;
 #[cfg(test)]
+mod tests_golden;
+#[cfg(test)]
 mod tests_modern;
 #[cfg(test)]
 mod tests_physics;

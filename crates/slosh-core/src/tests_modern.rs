@@ -6,7 +6,7 @@ use crate::{Simulation, SphParams, Vector};
 
 /// Fingerprint of a run: serial sums (in original particle order) of density, position and
 /// velocity, plus the largest wall pressure of the last recorded step, as raw bits.
-fn fingerprint<const D: usize>(sim: &Simulation<D>) -> Vec<u64> {
+pub(crate) fn fingerprint<const D: usize>(sim: &Simulation<D>) -> Vec<u64> {
     let f = sim.fluid();
     let mut order: Vec<usize> = (0..f.id.len()).collect();
     order.sort_by_key(|&i| f.id[i]);
