@@ -24,7 +24,7 @@ fn paper_layout_has_1974_particles() {
 /// Free sloshing from an initial tilt of 0.02 m: first-mode period within 5 % of potential
 /// theory 2π/√(g k tanh(k H)), k = π/width, for two tanks. 5 %: the paper scheme's dynamic
 /// walls keep the liquid about a kernel width from the walls and shorten the period by a few
-/// per cent (SPEC.md §4); the error is printed.
+/// per cent; the error is printed.
 #[test]
 fn free_sloshing_period_two_tanks() {
     for (width, depth) in [(1.0, 0.5), (0.6, 0.3)] {
@@ -58,8 +58,8 @@ fn free_sloshing_period_two_tanks() {
 }
 
 /// The paper's §3.1 case over its full 12 s: (a) during the first 2 s of excitation the crest
-/// at the left wall grows to between 0.6 and 1.1 times linear potential theory (SPEC.md §5;
-/// the paper and the prototype report SPH below theory, linear theory is an upper bound only
+/// at the left wall grows to between 0.6 and 1.1 times linear potential theory (the paper
+/// and a prototype of the scheme report SPH below theory, linear theory is an upper bound only
 /// up to small amplitudes); (b) no fluid particle leaves the tank (exact count).
 #[test]
 fn paper_case_resonant_growth_and_containment() {

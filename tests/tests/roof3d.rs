@@ -1,4 +1,4 @@
-//! 3D roof impacts (issue 5): a cone-roof cylinder (`cylinder_3d.rhai`) and a mesh-roof
+//! 3D roof impacts: a cone-roof cylinder (`cylinder_3d.rhai`) and a mesh-roof
 //! cylinder (`cylinder_mesh_roof.rhai`, the cone roof of `geometry/`) under a resonant sine
 //! report a roof impact when the freeboard is small, and none when the roof is far above the
 //! wave. Coarse lattice (8 particles per radius) and short runs: the test is about the roof

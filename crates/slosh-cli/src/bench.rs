@@ -1,4 +1,4 @@
-//! `slosh bench`: fixed throughput cases (issue 8, DESIGN.md §5).
+//! `slosh bench`: fixed throughput cases (README, *Performance*).
 //!
 //! Every case is built, warmed up ([`WARMUP_STEPS`] steps under gravity and a small sine
 //! ground acceleration), then timed for a fixed number of steps in a rayon pool of each
@@ -725,7 +725,7 @@ pub fn print_checks(rows: &[BenchRow], quick: bool) {
             .find(|r| r.case == case && r.backend == default && r.threads == threads)
     };
     println!("Columns: Mpst/s = 10⁶ (fluid + wall) particle-steps/s; fluid = fluid only; median / best = the median / fastest of {BLOCKS} blocks; shares of wall time; B/part = solver bytes per particle (arrays + estimated private buffers); peak MB = VmHWM during the case (incl. process baseline); cpu = CPU time / (wall × threads); load = 1-min load average.");
-    println!("Issue 8 checks ({default} backend, {max_threads} threads; measured, not a pass condition of this command):");
+    println!("Throughput targets ({default} backend, {max_threads} threads; measured, not a pass condition of this command):");
     let line = |label: String, value: String, ok: Option<bool>| {
         let v = ok.map_or("n/a ", verdict);
         println!("  {v}  {label:<52} {value}");

@@ -1,5 +1,5 @@
 //! Running a case: the time loop, the measurements of every output interval, and the files
-//! of DESIGN.md §4 (`series.csv`, `summary.ron`, frames, plots).
+//! listed in the README, *Outputs* (`series.csv`, `summary.ron`, frames, plots).
 
 use crate::build;
 use crate::load_filter::{add_filtered_columns, LoadFilter, LoadPeak};

@@ -1,4 +1,4 @@
-//! Issue 6 acceptance on a coarse, short run of `scripts/elcentro_2d.rhai`: `accel_x` in
+//! Recorded ground motion end to end, on a coarse, short run of `scripts/elcentro_2d.rhai`: `accel_x` in
 //! series.csv is the record × scaling at the record's sample times from the end of settling,
 //! its peak is 0.31882 g × scale, and the run writes the input spectrum and the record's log.
 

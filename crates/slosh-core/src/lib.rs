@@ -4,7 +4,7 @@
 //! with the cubic B-spline kernel, Tait EOS, summation density with a free-surface reset,
 //! the symmetric momentum equation with Newtonian viscous stress and Monaghan artificial
 //! viscosity, three layers of fixed wall particles and leap-frog time integration. Beside it,
-//! switchable one by one (issue 7): continuity density with δ-SPH diffusion, Adami walls,
+//! switchable one by one: continuity density with δ-SPH diffusion, Adami walls,
 //! the Wendland C2 kernel, symplectic time integration and particle shifting. No file,
 //! printing or scripting here: the crate takes particles and parameters and returns numbers.
 pub mod error;

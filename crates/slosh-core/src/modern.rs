@@ -1,4 +1,4 @@
-//! The "modern" step (issue 7): continuity density with δ-SPH diffusion, Adami walls,
+//! The "modern" step: continuity density with δ-SPH diffusion, Adami walls,
 //! symplectic position Verlet, optional particle shifting — each switchable on its own.
 //!
 //! A child module of `sim` (it reaches the simulation's private state). The paper's step

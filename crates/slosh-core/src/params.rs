@@ -56,7 +56,7 @@ pub enum DensityDiffusion {
 /// density rate).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum BoundaryMethod {
-    /// Paper (SPEC §4 item 5): wall density by summation (Eq. 19, with the Eq. 20 reset), wall
+    /// Paper (README, *The "paper" scheme*): wall density by summation (Eq. 19, with the Eq. 20 reset), wall
     /// pressure from the EOS ("dynamic boundary" particles).
     Dynamic,
     /// Generalised wall of Adami, Hu & Adams (2012, J. Comput. Phys. 231, Eq. 27):
@@ -122,7 +122,7 @@ pub enum Integrator {
     Symplectic,
 }
 
-/// Solver parameters. Units are SI; defaults are the paper's values as SPEC.md reads them.
+/// Solver parameters. Units are SI; defaults are the paper's values as the README's *The "paper" scheme* reads them.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct SphParams {
     /// Reference density ρ0 (kg/m³).
@@ -154,7 +154,7 @@ pub struct SphParams {
     pub av_sound_speed: ArtificialSoundSpeed,
     /// β_s of the free-surface density reset (Eq. 20).
     pub free_surface_threshold: f64,
-    /// Clamp negative pressure to zero (p = max(p, 0)) on all particles (SPEC.md §4).
+    /// Clamp negative pressure to zero (p = max(p, 0)) on all particles (README, *The "paper" scheme*, item 2).
     pub clamp_negative_pressure: bool,
     /// Adami walls only: floor the extrapolated wall pressure at zero, so that liquid leaving
     /// a wall (a wave falling from the roof) is not held by suction. The fluid's own pressure
@@ -244,13 +244,13 @@ impl Default for SphParams {
 }
 
 impl SphParams {
-    /// The paper scheme (SPEC §2): summation density with the Eq. 20 reset, dynamic walls,
+    /// The paper scheme (paper §2): summation density with the Eq. 20 reset, dynamic walls,
     /// cubic spline, leap-frog. The same as `SphParams::default()`.
     pub fn paper() -> Self {
         SphParams::default()
     }
 
-    /// The "modern" preset (`scheme = "modern"`, issue 7), built from the practice of today's
+    /// The "modern" preset (`scheme = "modern"`), built from the practice of today's
     /// engineering SPH codes: continuity density with Fourtakas et al. (2019) δ-SPH diffusion
     /// (δ = 0.1), Adami, Hu & Adams (2012) generalised walls (free slip), Wendland C2 with
     /// h = 1.5 dx (support 3 dx, the thickness of the three wall layers; at h = 1.3 dx the

@@ -19,7 +19,7 @@
 //! 5. wall pressures for loads (§2.6) and their time window.
 //!
 //! The switchable parts of the modern scheme (continuity density with δ-SPH, Adami walls,
-//! symplectic integration, shifting; issue 7) run in their own step, `modern.rs`, entered
+//! symplectic integration, shifting) run in their own step, `modern.rs`, entered
 //! only when one of them is switched on.
 
 use crate::error::SimError;
@@ -634,7 +634,7 @@ impl<const D: usize> Simulation<D> {
         self.phase_times.integration += integration_start.elapsed().as_secs_f64();
     }
 
-    /// The step (s): the acoustic, force and viscous bounds (SPEC §4 item 2) from the current
+    /// The step (s): the acoustic, force and viscous bounds (README, *The "paper" scheme*, item 4) from the current
     /// velocities and the last accelerations, or the fixed dt; updates the statistics. Both
     /// schemes.
     fn time_step(&mut self) -> f64 {

@@ -1,4 +1,4 @@
-//! Checks of the switchable "modern" scheme parts (issue 7) against the paper scheme, and the
+//! Checks of the switchable "modern" scheme parts against the paper scheme, and the
 //! guard that the paper scheme (`SphParams::default()`) stays bit-for-bit what it was.
 
 use crate::test_tank::box_tank;
@@ -66,7 +66,7 @@ fn paper_run_3d() -> Vec<u64> {
 /// 300 steps of a sloshing 2D box and 100 steps of a 3D box under a varying ground
 /// acceleration, compared by the raw bits of density, position and velocity sums, the largest
 /// wall-load pressure, the summed wall density and the time (recorded with
-/// `print_paper_fingerprints` on the code before issue 7). Since the neighbour grid changed
+/// `print_paper_fingerprints` on the code before the modern parts were added). Since the neighbour grid changed
 /// (cells of h instead of 2h) the neighbours are summed in another order, so the results are
 /// compared within round-off: 1e-9 relative after 300 steps (observed ≤ 2e-12; a change of
 /// physics moves these sums by far more).
@@ -125,7 +125,7 @@ pub(crate) fn modern_params() -> SphParams {
     SphParams::modern().with_paper_stiffness()
 }
 
-/// First-mode circular frequency of a rectangular tank of width L, depth H (SPEC §5).
+/// First-mode circular frequency of a rectangular tank of width L, depth H (potential theory).
 fn omega1(width: f64, depth: f64, g: f64) -> f64 {
     let k = std::f64::consts::PI / width;
     (g * k * (k * depth).tanh()).sqrt()
@@ -260,7 +260,7 @@ fn modern_hydrostatics() {
 
 /// Modern preset: the resonant paper case's crest at the left wall (gauge at x = 0.02 m)
 /// during the first 2 s of excitation against linear theory (0.052 m, the crest at 1.77 s),
-/// within 25 % (issue 7). (An earlier version of this harness applied the excitation with the
+/// within 25 %. (An earlier version of this harness applied the excitation with the
 /// opposite sign, so its first large left-wall crest came half a period earlier, at ≈ 1.2 s,
 /// and read 0.036 m against a theory value of the other sign's timing.)
 #[test]

@@ -1,4 +1,4 @@
-//! Writers for the files a slosh run produces (see DESIGN.md §4 "Files a run writes"):
+//! Writers for the files a slosh run produces (listed in the README, *Outputs*):
 //!
 //! - [`series`]: `series.csv` time series (+ `series_units.csv`) and other CSV tables;
 //! - [`summary`]: pretty RON files such as `summary.ron`;

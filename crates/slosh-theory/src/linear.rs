@@ -253,7 +253,7 @@ mod tests {
 
     #[test]
     fn paper_case_resonant_growth() {
-        // SPEC §4: linear theory 0.058, 0.144, 0.288 m at 2, 5, 10 s. These are the first-mode
+        // The paper's §3.1 case, linear theory 0.058, 0.144, 0.288 m at 2, 5, 10 s. These are the first-mode
         // secular envelope |Q₁| t/(2ω₁), Q₁ = (ω₁²/g) c₁ AΩ² (hand: 28.266/9.81 · 0.405285 ·
         // 0.262329 = 0.306337 m/s² → 0.028810 m/s · t). With the paper's body force
         // f = −AΩ² sin Ωt (a = −Aω² sin ωt applied to the particles) the left-wall

@@ -69,7 +69,7 @@ mod tests {
 
     #[test]
     fn paper_tank_first_mode() {
-        // SPEC §5: L = 1, H = 0.5, g = 9.81 → ω₁ = 5.3166 rad/s, T₁ = 1.1818 s
+        // The paper's tank: L = 1, H = 0.5, g = 9.81 → ω₁ = 5.3166 rad/s, T₁ = 1.1818 s
         // (hand: k = π, tanh(π/2) = 0.917152, ω² = 9.81·π·0.917152 = 28.2660).
         // Tolerance 1e-4: the quoted values have 5 significant digits.
         let w = rectangular_omega(1.0, 0.5, 9.81, 1);

@@ -43,10 +43,10 @@ const FRONT_Z_MAX: f64 = 4.0;
 const FRONT_TOL: f64 = 0.15;
 const FRONT_WHY: &str = "experiments differ among themselves by up to 10 % at equal T; no gate \
                          in the SPH (≈ 5 %)";
-/// The modern scheme's front tolerance: 5 % (issue 7) — its liquid starts hydrostatic and
+/// The modern scheme's front tolerance: 5 % — its liquid starts hydrostatic and
 /// reaches the wall, so the 5 % of the missing gate is the whole allowance.
 const FRONT_TOL_MODERN: f64 = 0.05;
-const FRONT_WHY_MODERN: &str = "5 % (issue 7): the modern scheme starts hydrostatic and its \
+const FRONT_WHY_MODERN: &str = "5 %: the modern scheme starts hydrostatic and its \
                                 walls hold the liquid at dx/2, so only the gate (≈ 5 %) remains";
 
 /// Pressure case (Lobovsky 2014, Buchner 2002 share it): column H = 0.3 m high, 2H wide,
@@ -66,8 +66,8 @@ const IMPACT_TOL: f64 = 0.10;
 /// without a source): a peer's allowance for the release the models do not have, not fitted
 /// here.
 const LETHE_TIME_CORRECTION: f64 = 0.175;
-/// What is known of the modern scheme's dam-break gaps (issue 7 stays open on them).
-const MODERN_DAMBREAK_GAP: &str = "issue 7: the modern front runs 9–12 % ahead of all four \
+/// What is known of the modern scheme's dam-break gaps (rows marked OPEN).
+const MODERN_DAMBREAK_GAP: &str = "the modern front runs 9–12 % ahead of all four \
     data sets (as the paper scheme's). The lead builds up between T ≈ 0.4 and 1 and then stays: a \
     constant delay of ΔT ≈ 0.2 aligns it within 1–2 % with Martin & Moyce and DualSPHysics' \
     Koshizuka & Oka (the gate or diaphragm removal is not modelled). Refining converges to a \
@@ -82,7 +82,7 @@ const MODERN_DAMBREAK_GAP: &str = "issue 7: the modern front runs 9–12 % ahead
     After the impact the wall pressure's vertical \
     gradient is too steep (T = 3–6: P1 +51 %, P3 +27 %, P4 −24 %, three-sensor mean +21 %; the \
     same at dx = 0.005 m: +20 %), and the corner sensor's first peak reads 2× high";
-/// The modern scheme's first-peak tolerance (issue 7).
+/// The modern scheme's first-peak tolerance.
 const PEAK_TOL_MODERN: f64 = 0.20;
 /// Pressure level (p/ρgH) that marks the impact: above the ±0.16 pre-impact scatter of the
 /// digitised Buchner data, below every post-impact value of both experiments.
@@ -194,7 +194,7 @@ pub fn front(ctx: &Context) -> GroupResult {
     )
 }
 
-/// The same with the modern scheme, held to 5 % (issue 7).
+/// The same with the modern scheme, held to 5 %.
 pub fn front_modern(ctx: &Context) -> GroupResult {
     front_for(
         ctx,
@@ -370,14 +370,13 @@ pub fn wall_pressure(ctx: &Context) -> GroupResult {
     wall_pressure_for(ctx, &Scheme::paper(), "Dam-break pressure")
 }
 
-/// The same with the modern scheme; its first impact peak at Buchner's 0.2 H is held to 20 %
-/// (issue 7).
+/// The same with the modern scheme; its first impact peak at Buchner's 0.2 H is held to 20 %.
 pub fn wall_pressure_modern(ctx: &Context) -> GroupResult {
     wall_pressure_for(ctx, &Scheme::modern(), "Modern scheme: dam-break pressure")
 }
 
 /// A row as the scheme is judged: the paper scheme's as it is, the modern scheme's shown as
-/// OPEN with the known gap when it fails (issue 7).
+/// OPEN with the known gap when it fails.
 fn judged(scheme: &Scheme, check: Check) -> Check {
     if scheme.is_paper {
         check
@@ -573,13 +572,13 @@ fn wall_pressure_inner(ctx: &Context, scheme: &Scheme, group: &str) -> Result<Gr
             g.checks.push(judged(
                 scheme,
                 relative_check(
-                group,
-                &peak_name,
-                peak_sph,
-                peak_exp,
-                "",
-                PEAK_TOL_MODERN,
-                "20 % (issue 7: within 20 % of Buchner or Lobovsky): at 0.2 H the first impact is \
+                    group,
+                    &peak_name,
+                    peak_sph,
+                    peak_exp,
+                    "",
+                    PEAK_TOL_MODERN,
+                    "20 % (within 20 % of Buchner or Lobovsky): at 0.2 H the first impact is \
                  a rise, not a spike, so its peak does not depend on the ±20-step window; the \
                  corner sensor P1 is reported",
                 ),

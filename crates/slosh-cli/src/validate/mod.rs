@@ -162,7 +162,7 @@ pub(crate) fn open_if_failed(mut check: Check, gap: &str) -> Check {
     check
 }
 
-/// A check that every fluid particle is still inside the tank (issue 7: "no particle leaves
+/// A check that every fluid particle is still inside the tank ("no particle leaves
 /// the tank in any validation case").
 pub(crate) fn stayed_inside<const D: usize>(group: &str, sim: &slosh_core::Simulation<D>) -> Check {
     let n = sim.fluid().position.len();
@@ -388,7 +388,7 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             ),
         ),
     ];
-    // The 3D checks (issue 5) run in the full suite only (≈ 15 min on 2 cores).
+    // The 3D checks run in the full suite only (≈ 15 min on 2 cores).
     let stages: Vec<Stage> = if opts.quick {
         stages
     } else {

@@ -1,4 +1,4 @@
-//! The modern scheme (issue 7) beside the paper scheme: free-sloshing period, hydrostatic
+//! The modern scheme beside the paper scheme: free-sloshing period, hydrostatic
 //! pressure and its scatter, resonant growth, roof impact of the paper's §3.2 case, and (full
 //! suite) the 50 s run of the §3.3 case. The dam-break checks of the modern scheme live in
 //! `dambreak.rs` beside the paper scheme's.
@@ -29,23 +29,23 @@ use super::sloshing::{
     SAMPLE,
 };
 
-/// Period tolerance of the modern scheme: 1.5 % (issue 7). Its walls hold the liquid at dx/2
+/// Period tolerance of the modern scheme: 1.5 %. Its walls hold the liquid at dx/2
 /// (no kernel-width gap), so what remains is the resolution (H/dx = 15–25) and the
 /// measurement over two periods.
 const PERIOD_TOL: f64 = 0.015;
-/// Hydrostatic slope tolerance of the modern scheme: 2 % (issue 7).
+/// Hydrostatic slope tolerance of the modern scheme: 2 %.
 const SLOPE_TOL: f64 = 0.02;
 /// The scatter of the modern scheme's particle pressures about the hydrostatic line must be at
-/// least 5× smaller than the paper scheme's (issue 7).
+/// least 5× smaller than the paper scheme's.
 const SCATTER_FACTOR: f64 = 5.0;
-/// Resonant crest band of the modern scheme: within 25 % of undamped linear theory (issue 7).
+/// Resonant crest band of the modern scheme: within 25 % of undamped linear theory.
 const RESONANT_BAND: (f64, f64) = (0.75, 1.25);
 /// Roof-pressure spikes (step-scale departures, see [`roughness`]): the modern scheme's must be
 /// at most half the paper scheme's (a history "without the spurious spikes").
 const ROUGHNESS_FACTOR: f64 = 2.0;
 
 /// What is known of the modern scheme's roof-pressure spikes, shown if that row fails.
-const ROOF_GAP: &str = "issue 7: spikes shorter than the sound crossing of one kernel support \
+const ROOF_GAP: &str = "spikes shorter than the sound crossing of one kernel support \
     remain in the modern history; particle shifting removes most of them (row below) but is off \
     by default: it raises the dam-break wall pressures (three-sensor mean +21 % → +38 %, \
     Buchner first peak +8 % → +51 %)";
@@ -319,7 +319,7 @@ fn period(ctx: &Context) -> GroupResult {
                             t1,
                             "s",
                             PERIOD_TOL,
-                            "1.5 % (issue 7): Adami walls hold the liquid at dx/2 from the wall, \
+                            "1.5 %: Adami walls hold the liquid at dx/2 from the wall, \
                              no kernel-width gap; what remains is resolution",
                         ));
                     } else {
@@ -443,7 +443,7 @@ fn forced(ctx: &Context) -> GroupResult {
         1.0,
         "",
         SLOPE_TOL,
-        "2 % (issue 7): continuity density from a hydrostatic start and Adami walls; the EOS \
+        "2 %: continuity density from a hydrostatic start and Adami walls; the EOS \
          compression itself makes ρ ≈ 1.005 ρ0 at mid-depth",
     ));
     g.checks.push(info_row(
@@ -467,7 +467,7 @@ fn forced(ctx: &Context) -> GroupResult {
         reference: format!("≥ {SCATTER_FACTOR:.0}×"),
         error: format!("{factor:.1}×"),
         tolerance: format!("≥ {SCATTER_FACTOR:.0}×"),
-        reason: "issue 7: the modern pressure field must be at least 5× quieter".into(),
+        reason: "the modern pressure field must be at least 5× quieter".into(),
         verdict: if factor >= SCATTER_FACTOR {
             Verdict::Pass
         } else {
@@ -504,7 +504,7 @@ fn forced(ctx: &Context) -> GroupResult {
         crest_lin,
         "m",
         RESONANT_BAND,
-        "25 % (issue 7): undamped linear theory is an upper bound; the modern scheme's wall \
+        "25 %: undamped linear theory is an upper bound; the modern scheme's wall \
          gap is gone, so its resonance is not detuned",
     ));
     if !ctx.quick {
@@ -727,7 +727,7 @@ fn roof_impact(ctx: &Context) -> GroupResult {
             error: format!("{factor:.1}×"),
             tolerance: format!("≥ {ROUGHNESS_FACTOR:.0}×"),
             reason: format!(
-                "issue 7: the modern history without the paper scheme's spurious spikes; spikes \
+                "the modern history without the paper scheme's spurious spikes; spikes \
                  = RMS departure from the ±{:.1} ms running mean (sound crossing one kernel \
                  support, 2h/c₀: nothing shorter is resolved physics) ÷ the peak of the ±10 ms \
                  mean",
@@ -923,7 +923,7 @@ pub fn stability(ctx: &Context) -> GroupResult {
                 format!("{t:.2} s; {} kPa", fmt_num(roof_p / 1e3)),
                 "52 s".into(),
                 "-".into(),
-                "issue 7: a 50 s run of the §3.3 case stays stable (a blow-up fails the run)",
+                "a 50 s run of the §3.3 case stays stable (a blow-up fails the run)",
             ));
             g.checks.push(info_row(
                 group,

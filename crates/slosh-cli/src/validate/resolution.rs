@@ -120,7 +120,7 @@ pub fn study(ctx: &Context) -> GroupResult {
             error: format!("{:.3} → {:.3}", coarse, fine),
             tolerance: "finest < coarsest".into(),
             reason: "a resolution study must show convergence: numerical damping falls as dx \
-                     does (issue 3)"
+                     does"
                 .into(),
             verdict: if pass {
                 super::Verdict::Pass

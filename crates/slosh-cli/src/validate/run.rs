@@ -33,7 +33,7 @@ impl Context {
     }
 }
 
-/// The paper scheme (SPEC §2): the solver's defaults.
+/// The paper scheme (paper §2): the solver's defaults.
 ///
 /// Wall loads (base shear) are evaluated with the Shepard kernel extrapolation to the wall
 /// face (`WallPressureMethod::KernelExtrapolation`): the paper's nearest-fluid method (§2.6)

@@ -32,11 +32,11 @@ pub(crate) const MODES: usize = 10;
 /// Interval of the elevation samples (s).
 pub(crate) const SAMPLE: f64 = 0.005;
 
-/// Tolerance of the hydrostatic slope: 5 % (issue 3). The summation density of the first
+/// Tolerance of the hydrostatic slope: 5 %. The summation density of the first
 /// particle rows next to the walls and the surface reset (Eq. 20) bias particle pressures by a
 /// few per cent of ρ g d; a larger slope error would mean a wrong EOS or gravity.
 const HYDROSTATIC_TOL: f64 = 0.05;
-/// Resonant crest band (ratio SPH / undamped linear theory): SPEC §4 measured 0.04–0.05 m
+/// Resonant crest band (ratio SPH / undamped linear theory): a prototype of the scheme measured 0.04–0.05 m
 /// against 0.058 m of linear theory at 2 s (ratio 0.7–0.86). Linear theory has no damping, so
 /// the SPH crest must be lower, but not by more than 40 % (the paper's Fig. 3 shows the wave
 /// "somewhat below" experiment); above 1.1 would mean energy gain or a wrong forcing.
@@ -51,9 +51,9 @@ const HOUSNER_PRESSURE_TOL: f64 = 0.10;
 /// (8/π² = 0.81 vs 1, partly offset by the convective-mass approximation), and the ±20-step
 /// windowed SPH wall pressure keeps noise of ≈ 10–20 % of the signal: 30 % in all.
 const HOUSNER_SHEAR_TOL: f64 = 0.30;
-/// The period tolerance of the paper scheme (issue 2): 5 %. The dynamic-boundary walls hold
+/// The period tolerance of the paper scheme: 5 %. The dynamic-boundary walls hold
 /// the liquid about one kernel width away, a narrower effective tank: the period comes out a
-/// few per cent short (SPEC §4: 1.5–6 %).
+/// few per cent short (a prototype of the scheme: 1.5–6 %).
 const PERIOD_TOL: f64 = 0.05;
 
 /// The paper's §3.1 run (hydrostatic, resonant crest, Housner pressure at 3 s and 7 s, base
@@ -140,7 +140,7 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
             1.0,
             "",
             HYDROSTATIC_TOL,
-            "5 % (issue 3): summation density of the rows next to walls and surface reset bias \
+            "5 %: summation density of the rows next to walls and surface reset bias \
              particle pressures by a few % of ρgd; more would mean a wrong EOS or gravity",
         ));
         g_hydro.checks.push(info_row(
@@ -149,7 +149,7 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
             format!("{r2:.3}"),
             "1".into(),
             format!("{:.3}", 1.0 - r2),
-            "reported: the paper scheme's pressure noise (SPEC §4: ≈ 19 % of ρgH)",
+            "reported: the paper scheme's pressure noise (≈ 19 % of ρgH)",
         ));
         let stem = "fig2_hydrostatic";
         let _ = scatter_with_identity(
@@ -203,7 +203,7 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
         lin_crest,
         "m",
         RESONANT_BAND,
-        "undamped linear theory must lie above the SPH crest; SPEC §4 prototype: 0.7–0.86; \
+        "undamped linear theory must lie above the SPH crest; a prototype of the scheme: 0.7–0.86; \
          below 0.6 = excess numerical damping, above 1.1 = spurious energy",
     ));
     let (sph_trough, _) = max_in_window(
@@ -224,7 +224,7 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
         format!("{} m", fmt_num(-sph_trough)),
         format!("{} m", fmt_num(-lin_trough)),
         format!("ratio {:.3}", sph_trough / lin_trough),
-        "reported: troughs are smaller than crests in the SPH (SPEC §4)",
+        "reported: troughs are smaller than crests in the SPH",
     ));
     if !ctx.quick {
         let (c2, t2) = max_in_window(&te, &h.eta_left, 4.7, 5.9);
@@ -715,8 +715,8 @@ impl FreePeriod {
             self.reference,
             "s",
             PERIOD_TOL,
-            "5 % (issue 2): the paper scheme's dynamic walls keep the liquid ≈ one kernel width \
-             off the wall, a narrower tank: the period comes out a few % short (SPEC §4)",
+            "5 %: the paper scheme's dynamic walls keep the liquid ≈ one kernel width \
+             off the wall, a narrower tank: the period comes out a few % short",
         )
     }
 }

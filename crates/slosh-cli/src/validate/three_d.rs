@@ -1,4 +1,4 @@
-//! 3D checks (issue 5), modern scheme: free-sloshing period of an upright cylinder for two
+//! 3D checks, modern scheme: free-sloshing period of an upright cylinder for two
 //! aspect ratios against ω₁² = (g ξ₁/R) tanh(ξ₁ H/R); the small-amplitude forced response and
 //! base shear of a cylinder against the linear (Veletsos-type rigid tank) modal solution with
 //! Housner's approximation beside it; a thin 3D box against the 2D code.
@@ -22,7 +22,7 @@ use slosh_theory::cylinder::{
 use slosh_theory::modal::{sine_response, ModalTank};
 use slosh_theory::natural::rectangular_period;
 
-/// Period tolerance in 3D: 3 % (issue 5). At 12–16 particles across the radius the lattice
+/// Period tolerance in 3D: 3 %. At 12–16 particles across the radius the lattice
 /// staircase of the curved wall and the kernel smoothing of the surface are a few per cent.
 const PERIOD_TOL_3D: f64 = 0.03;
 /// 2D against 3D box: the same code in both dimensions; the box's side walls are free-slip
@@ -204,7 +204,7 @@ fn cylinder_periods(ctx: &Context) -> GroupResult {
                     t1,
                     "s",
                     PERIOD_TOL_3D,
-                    "3 % (issue 5): 12–16 particles per radius; staircase wall and surface \
+                    "3 %: 12–16 particles per radius; staircase wall and surface \
                      smoothing",
                 ));
                 let x0 = h.x[0];
