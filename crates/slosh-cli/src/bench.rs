@@ -400,17 +400,24 @@ fn backend_name(b: NeighbourBackend) -> &'static str {
     }
 }
 
-/// Horizontal (x) sine ground acceleration at time `t`.
-fn ground_accel<const D: usize>(t: f64) -> Vector<D> {
-    let mut a = Vector::<D>::zeros();
-    a[0] = GROUND_AMPLITUDE * (2.0 * std::f64::consts::PI * GROUND_FREQUENCY * t).sin();
-    a
+/// Horizontal (x) sine ground acceleration `[x, y, vertical]` at time `t`.
+fn ground_accel(t: f64) -> [f64; 3] {
+    [
+        GROUND_AMPLITUDE * (2.0 * std::f64::consts::PI * GROUND_FREQUENCY * t).sin(),
+        0.0,
+        0.0,
+    ]
 }
 
+/// Takes `steps` steps under [`ground_accel`] through the run loop of `slosh-run`.
 fn advance<const D: usize>(sim: &mut Simulation<D>, steps: usize) -> Result<()> {
-    for _ in 0..steps {
-        sim.step(ground_accel::<D>(sim.time()))?;
-    }
+    slosh_run::advance(
+        sim,
+        &mut ground_accel,
+        slosh_run::Until::Steps(steps as u64),
+        &mut (),
+        &mut (),
+    )?;
     Ok(())
 }
 

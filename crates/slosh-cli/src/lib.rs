@@ -4,11 +4,10 @@
 pub mod bench;
 pub mod build;
 pub mod interrupt;
-pub mod load_filter;
 pub mod memory;
 pub mod post;
 pub mod progress;
-pub mod roof;
+pub mod roof_files;
 pub mod run_folder;
 pub mod runner;
 pub mod shipped_scripts;

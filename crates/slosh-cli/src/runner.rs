@@ -2,15 +2,16 @@
 //! listed in the README, *Outputs* (`series.csv`, `summary.ron`, frames, plots).
 
 use crate::build;
-use crate::load_filter::{add_filtered_columns, LoadFilter, LoadPeak};
 use crate::progress::Progress;
-use crate::roof::WET_PRESSURE;
 use anyhow::Result;
 use serde::Serialize;
-use slosh_core::{LoadPeaks, PartLoads, Simulation, SoundSpeedRule, SphParams, StepStats, Vector};
+use slosh_core::{Simulation, SoundSpeedRule, SphParams, Vector};
 use slosh_io::{FrameSeries, PlotSpec, PointArray, Series, SeriesWriter};
+use slosh_run::{
+    Gauge, HookError, LoadFilter, LoadPeak, Observer, RoofImpact, RoofTank, RunPlan, RunResult,
+    RunStatus, StepError,
+};
 use slosh_script::{Case, ParamValue, TankSpec};
-use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -142,7 +143,7 @@ pub struct Summary {
     /// Closed-form references for this tank.
     pub theory: TheoryNumbers,
     /// Roof impacts with Kurihara's and Malhotra's pressures beside the SPH peak.
-    pub impacts: Vec<crate::roof::RoofImpact>,
+    pub impacts: Vec<RoofImpact>,
     /// Kurihara (Eq. 28) at the impact with the largest SPH roof pressure (Pa; 0 = no impact).
     pub kurihara_at_max: f64,
     /// Malhotra (Eq. 27) at the impact with the largest SPH roof pressure (Pa).
@@ -179,67 +180,6 @@ pub struct TheoryNumbers {
     pub period_1: f64,
 }
 
-/// One row of `series.csv` waiting for its time-windowed loads.
-struct PendingRow {
-    step: u64,
-    values: Vec<f64>,
-}
-
-/// Column layout of `series.csv`.
-struct Columns {
-    names: Vec<(String, String)>,
-    idx_base_shear_x: usize,
-    idx_roof_force_up: usize,
-    n_before_loads: usize,
-}
-
-fn columns(dim: usize, gauges: &[slosh_script::GaugeSpec]) -> Columns {
-    let force = if dim == 2 { "N/m" } else { "N" };
-    let energy = if dim == 2 { "J/m" } else { "J" };
-    let mut names: Vec<(String, String)> = vec![("t".into(), "s".into())];
-    names.push(("accel_x".into(), "m/s2".into()));
-    if dim == 3 {
-        names.push(("accel_y".into(), "m/s2".into()));
-        names.push(("accel_z".into(), "m/s2".into()));
-    } else {
-        names.push(("accel_y".into(), "m/s2".into()));
-    }
-    names.push(("eta_left".into(), "m".into()));
-    names.push(("eta_right".into(), "m".into()));
-    for g in gauges {
-        names.push((format!("eta_{}", g.name), "m".into()));
-    }
-    names.push(("crest_z".into(), "m".into()));
-    names.push(("crest_vz".into(), "m/s".into()));
-    names.push(("kinetic_energy".into(), energy.into()));
-    names.push(("n_fluid".into(), "1".into()));
-    names.push(("dt".into(), "s".into()));
-    let n_before_loads = names.len();
-    let idx_base_shear_x = names.len();
-    names.push(("base_shear_x".into(), force.into()));
-    if dim == 3 {
-        names.push(("base_shear_y".into(), force.into()));
-    }
-    let idx_roof_force_up = names.len();
-    names.push(("roof_force_up".into(), force.into()));
-    names.push(("roof_p_max".into(), "Pa".into()));
-    names.push(("wall_p_max".into(), "Pa".into()));
-    names.push(("bottom_force_down".into(), force.into()));
-    names.push(("roof_contact_extent".into(), "m".into()));
-    if dim == 2 {
-        names.push(("overturning_moment".into(), "N·m/m".into()));
-    } else {
-        names.push(("overturning_moment_y".into(), "N·m".into()));
-        names.push(("overturning_moment_x".into(), "N·m".into()));
-    }
-    Columns {
-        names,
-        idx_base_shear_x,
-        idx_roof_force_up,
-        n_before_loads,
-    }
-}
-
 /// Runs a case to the end (or to a blow-up, keeping what was written) and returns the summary.
 pub fn run_case(mut case: Case, opts: &RunOptions) -> Result<Summary> {
     // Held until the run's outputs are complete.
@@ -267,12 +207,12 @@ fn build_and_run(case: &mut Case, opts: &RunOptions) -> Result<Summary> {
         2 => {
             let setup = build::build_2d(&fit.tank, fit.dx)?;
             let sim = Simulation::<2>::new(setup, sph)?;
-            run_loop(sim, case, fit, opts)
+            run_built(sim, case, fit, opts)
         }
         _ => {
             let setup = build::build_3d(&fit.tank, fit.dx, &case.sandbox)?;
             let sim = Simulation::<3>::new(setup, sph)?;
-            run_loop(sim, case, fit, opts)
+            run_built(sim, case, fit, opts)
         }
     }
 }
@@ -321,23 +261,6 @@ fn simulated_tank<const D: usize>(sim: &Simulation<D>, fit: &mut build::FittedTa
     tank
 }
 
-/// Horizontal positions of the left and right wall gauges: on the x axis, one lattice
-/// spacing inside the interior from the wall face.
-fn wall_gauges<const D: usize>(sim: &Simulation<D>) -> (Vec<f64>, Vec<f64>) {
-    let (lo, hi) = sim.interior_bounds();
-    let dx = sim.spacing();
-    let mut left = vec![0.0; D - 1];
-    let mut right = vec![0.0; D - 1];
-    left[0] = lo[0] + dx;
-    right[0] = hi[0] - dx;
-    for k in 1..D - 1 {
-        let centre = 0.5 * (lo[k] + hi[k]);
-        left[k] = centre;
-        right[k] = centre;
-    }
-    (left, right)
-}
-
 fn theory_numbers(tank: &TankSpec, gravity: f64) -> TheoryNumbers {
     use slosh_theory::natural;
     let omega_1 = match tank {
@@ -357,7 +280,67 @@ fn theory_numbers(tank: &TankSpec, gravity: f64) -> TheoryNumbers {
     }
 }
 
-fn run_loop<const D: usize>(
+/// The files a run writes while it runs, as an observer of the run loop: `series.csv`
+/// streamed row by row (written again at the end with the low-pass load columns), the
+/// particle frames, and the progress display.
+struct RunFiles {
+    out: PathBuf,
+    series: Option<SeriesWriter>,
+    frames: Option<FrameSeries>,
+    progress: Option<Progress>,
+    started: Instant,
+}
+
+impl<const D: usize> Observer<D> for RunFiles {
+    fn columns(&mut self, columns: &[(String, String)]) -> Result<(), HookError> {
+        self.series = Some(SeriesWriter::create(self.out.join("series.csv"), columns)?);
+        Ok(())
+    }
+
+    fn row(&mut self, values: &[f64]) -> Result<(), HookError> {
+        if let Some(writer) = self.series.as_mut() {
+            writer.write_row(values)?;
+        }
+        Ok(())
+    }
+
+    fn frame(&mut self, sim: &Simulation<D>, time: f64) -> Result<(), HookError> {
+        if let Some(frames) = self.frames.as_mut() {
+            write_frame(frames, sim, time)?;
+        }
+        Ok(())
+    }
+
+    fn progress(&mut self, time: f64, steps: u64) {
+        if let Some(progress) = self.progress.as_mut() {
+            progress.update(time, steps, self.started);
+        }
+    }
+
+    fn series(&mut self, columns: &[(String, String)], series: &[Vec<f64>]) -> Result<(), HookError> {
+        if let Some(progress) = &self.progress {
+            progress.finish();
+        }
+        if let Some(mut writer) = self.series.take() {
+            writer.flush()?;
+        }
+        rewrite_series(&self.out.join("series.csv"), columns, series)?;
+        Ok(())
+    }
+}
+
+/// The run's failure as the command line reports it: the solver's or the script's own error,
+/// or [`crate::interrupt::Interrupted`] for a signal.
+fn failure_of(status: RunStatus) -> Option<anyhow::Error> {
+    match status {
+        RunStatus::Finished => None,
+        RunStatus::Interrupted { code } => Some(crate::interrupt::Interrupted { signal: code }.into()),
+        RunStatus::Failed(StepError::Motion { source, .. }) => Some(anyhow::anyhow!(source)),
+        RunStatus::Failed(e) => Some(e.into()),
+    }
+}
+
+fn run_built<const D: usize>(
     mut sim: Simulation<D>,
     case: &mut Case,
     mut fit: build::FittedTank,
@@ -389,9 +372,6 @@ fn run_loop<const D: usize>(
         for note in &fit.notes {
             eprintln!("{}: lattice: {note}", case.name);
         }
-    }
-    let mut measured_compression: Option<f64> = None;
-    if opts.verbose {
         eprintln!(
             "{}: {}D, {} fluid + {} wall particles, dx = {} m, h = {:.4} m, c0 = {:.2} m/s",
             case.name,
@@ -403,10 +383,7 @@ fn run_loop<const D: usize>(
             sim.sound_speed()
         );
     }
-    let cols = columns(D, &case.gauges);
-    let mut writer = SeriesWriter::create(out.join("series.csv"), &cols.names)?;
-    let mut history: Vec<Vec<f64>> = vec![Vec::new(); cols.names.len()];
-    let mut frames = if case.run.frame_interval > 0.0 {
+    let frames = if case.run.frame_interval > 0.0 {
         // A frame is written at most once per step; the step is about C h / c0.
         let step = sim.params().cfl_number * sim.smoothing_length() / sim.sound_speed();
         let interval = case.run.frame_interval.max(step);
@@ -418,220 +395,52 @@ fn run_loop<const D: usize>(
     } else {
         None
     };
-    let (left, right) = wall_gauges(&sim);
-    let fill = sim.still_level();
-    let roof_part = sim.part_names().iter().position(|n| n == "roof");
-    let wall_part = sim.part_names().iter().position(|n| n == "wall");
-    let bottom_part = sim.part_names().iter().position(|n| n == "bottom");
-
     let settle = case.run.settle;
     let duration = case.run.duration;
-    let interval = case.run.output_interval;
-    let mut roof = crate::roof::RoofMonitor::new(&sim, (duration / interval).ceil() as usize + 2);
-    let levers = overturning_levers(&sim);
-    let mut next_output = 0.0;
-    let mut next_frame = 0.0;
-    let mut pending: VecDeque<PendingRow> = VecDeque::new();
-    let mut progress = Progress::start(opts.progress, &case.name, duration);
-    let started = Instant::now();
-    let mut failure: Option<anyhow::Error> = None;
-    let eps = 1e-9;
-
-    let complete_row = |row: PendingRow,
-                        loads: &PartLoads<D>,
-                        centred_pressure: &[f64],
-                        roof: &mut crate::roof::RoofMonitor<D>,
-                        writer: &mut SeriesWriter,
-                        history: &mut Vec<Vec<f64>>|
-     -> Result<()> {
-        let mut values = row.values;
-        let contact = roof.record(loads.time, centred_pressure);
-        let shear = slosh_core::loads::base_shear_x(loads, roof_part);
-        values.push(shear);
-        if D == 3 {
-            let shear_y: f64 = loads
-                .force
-                .iter()
-                .enumerate()
-                .filter(|(k, _)| Some(*k) != roof_part)
-                .map(|(_, f)| f[1])
-                .sum();
-            values.push(shear_y);
-        }
-        let pick = |part: Option<usize>| part.map(|k| loads.force[k][D - 1]).unwrap_or(0.0);
-        values.push(pick(roof_part));
-        values.push(roof_part.map(|k| loads.peak_pressure[k]).unwrap_or(0.0));
-        values.push(wall_part.map(|k| loads.peak_pressure[k]).unwrap_or(0.0));
-        values.push(-pick(bottom_part));
-        values.push(contact);
-        for lever in &levers {
-            values.push(lever.iter().zip(centred_pressure).map(|(c, p)| c * p).sum());
-        }
-        writer.write_row(&values)?;
-        for (h, v) in history.iter_mut().zip(&values) {
-            h.push(*v);
-        }
-        Ok(())
+    let theory = theory_numbers(&tank, sim.params().gravity);
+    let plan = RunPlan {
+        settle,
+        duration,
+        output_interval: case.run.output_interval,
+        frame_interval: case.run.frame_interval,
+        gauges: case
+            .gauges
+            .iter()
+            .map(|g| Gauge {
+                name: g.name.clone(),
+                horizontal: g.horizontal.clone(),
+            })
+            .collect(),
+        // The filter's default cut-off follows the tank as the script gave it.
+        load_filter: LoadFilter::new(
+            case.run.load_filter_hz,
+            theory_numbers(&case.tank, sim.params().gravity).omega_1,
+        ),
+        roof_tank: roof_tank(&tank, sim.params(), theory.omega_1),
     };
-
-    while sim.time() < duration - eps {
-        let t = sim.time();
-        // At the end of settling; without settling, at the end of the run (below).
-        if measured_compression.is_none() && settle > 0.0 && t >= settle - eps {
-            measured_compression = Some(sim.mean_compression());
-        }
-        let accel3 = if t >= settle - eps {
-            match case.excitation.ground_accel(t - settle) {
-                Ok(a) => a,
-                Err(e) => {
-                    failure = Some(e.into());
-                    break;
-                }
-            }
-        } else {
-            [0.0; 3]
-        };
-        let mut ground = Vector::<D>::zeros();
-        if D == 2 {
-            ground[0] = accel3[0];
-            ground[1] = accel3[2];
-        } else {
-            for (k, a) in accel3.iter().enumerate().take(D) {
-                ground[k] = *a;
-            }
-        }
-        if t >= next_output - eps {
-            let mut values = Vec::with_capacity(cols.names.len());
-            values.push(t);
-            values.push(accel3[0]);
-            if D == 3 {
-                values.push(accel3[1]);
-                values.push(accel3[2]);
-            } else {
-                values.push(accel3[2]);
-            }
-            let eta = |h: &[f64]| {
-                sim.surface_level_at(h)
-                    .map(|z| z - fill)
-                    .unwrap_or(f64::NAN)
-            };
-            values.push(eta(&left));
-            values.push(eta(&right));
-            for g in &case.gauges {
-                values.push(eta(&g.horizontal));
-            }
-            let (crest_vz, crest_z) = crate::roof::crest(&sim);
-            values.push(crest_z);
-            values.push(crest_vz);
-            values.push(sim.kinetic_energy());
-            values.push(sim.fluid_inside() as f64);
-            roof.snapshot(&sim);
-            values.push(sim.last_dt());
-            debug_assert_eq!(values.len(), cols.n_before_loads);
-            pending.push_back(PendingRow {
-                step: sim.steps(),
-                values,
-            });
-            while next_output <= t + eps {
-                next_output += interval;
-            }
-        }
-        if let Some(fr) = frames.as_mut() {
-            if t >= next_frame - eps {
-                write_frame(fr, &sim, t)?;
-                while next_frame <= t + eps {
-                    next_frame += case.run.frame_interval;
-                }
-            }
-        }
-        if let Err(e) = sim.step(ground) {
-            failure = Some(e.into());
-            break;
-        }
-        if let Some(signal) = crate::interrupt::received() {
-            failure = Some(crate::interrupt::Interrupted { signal }.into());
-            break;
-        }
-        if let Some(loads) = sim.loads().centred() {
-            while pending.front().is_some_and(|r| r.step <= loads.step) {
-                let row = pending.pop_front().expect("front");
-                let centred = sim.loads().centred_pressure();
-                complete_row(row, loads, centred, &mut roof, &mut writer, &mut history)?;
-            }
-        }
-        if let Some(progress) = progress.as_mut() {
-            progress.update(sim.time(), sim.steps(), started);
-        }
-    }
-    let wall_time = started.elapsed().as_secs_f64();
-    if let Some(progress) = &progress {
-        progress.finish();
-    }
-    // The last N steps: windows cut at the end of the run.
-    {
-        let mut rows = Vec::new();
-        sim.loads_mut()
-            .flush_tail(|loads, pressure| rows.push((loads.clone(), pressure.to_vec())));
-        for (loads, pressure) in rows {
-            while pending.front().is_some_and(|r| r.step <= loads.step) {
-                let row = pending.pop_front().expect("front");
-                complete_row(row, &loads, &pressure, &mut roof, &mut writer, &mut history)?;
-            }
-        }
-        // Rows of a run without any load point (no wall area) or after a failure before the
-        // first load evaluation: write zeros for the loads.
-        while let Some(row) = pending.pop_front() {
-            let mut values = row.values;
-            values.resize(cols.names.len(), 0.0);
-            writer.write_row(&values)?;
-            for (h, v) in history.iter_mut().zip(&values) {
-                h.push(*v);
-            }
-        }
-    }
-    writer.flush()?;
-    drop(writer);
-    let omega_1 = theory_numbers(&case.tank, sim.params().gravity).omega_1;
-    let mut load_filter = LoadFilter::new(case.run.load_filter_hz, omega_1);
-    let (cols, load_peaks) = with_filtered_loads(out, cols, &mut history, &mut load_filter)?;
-    let roof_contact =
-        roof.has_roof() && touched_roof(&cols.names, &history, sim.loads().peaks().max_roof_p);
-    if let Some(fr) = frames.as_mut() {
-        if failure.is_none() {
-            write_frame(fr, &sim, sim.time())?;
-        }
-    }
-
-    let peaks: LoadPeaks = sim.loads().peaks();
-    let stats: StepStats = sim.step_stats();
+    let mut files = RunFiles {
+        out: out.clone(),
+        series: None,
+        frames,
+        progress: Progress::start(opts.progress, &case.name, duration),
+        started: Instant::now(),
+    };
+    let result: RunResult<D> = slosh_run::run_case(
+        &mut sim,
+        &plan,
+        &mut case.excitation,
+        &mut files,
+        &mut crate::interrupt::received,
+    )
+    .map_err(|e| anyhow::anyhow!(e))?;
+    let mut result = result;
+    let failure = failure_of(std::mem::replace(&mut result.status, RunStatus::Finished));
+    let (stats, peaks, wall_time) = (result.stats, result.peaks, result.wall_time_s);
+    let measured_compression = result.hydrostatic_compression;
+    let roof_contact = result.roof_contact;
     let particles = (n_fluid0 + n_wall) as f64;
     let steps = sim.steps();
-    let col = |name: &str| {
-        cols.names
-            .iter()
-            .position(|(n, _)| n == name)
-            .map(|i| &history[i])
-    };
-    let max_of = |v: Option<&Vec<f64>>| {
-        v.map(|v| {
-            v.iter()
-                .copied()
-                .filter(|x| x.is_finite())
-                .fold(f64::NEG_INFINITY, f64::max)
-        })
-        .unwrap_or(f64::NAN)
-    };
-    let min_of = |v: Option<&Vec<f64>>| {
-        v.map(|v| {
-            v.iter()
-                .copied()
-                .filter(|x| x.is_finite())
-                .fold(f64::INFINITY, f64::min)
-        })
-        .unwrap_or(f64::NAN)
-    };
     let lost = n_fluid0 - sim.fluid_inside();
-    let measured_compression = measured_compression.unwrap_or_else(|| sim.mean_compression());
     let choice = sim.sound_speed_choice().clone();
     if choice.compression_warning().is_none()
         && measured_compression > slosh_core::sound_speed::COMPRESSION_WARNING
@@ -650,7 +459,6 @@ fn run_loop<const D: usize>(
         eprintln!("warning: {w}");
         warnings.push(w);
     }
-    let _ = (cols.idx_base_shear_x, cols.idx_roof_force_up);
     let mut summary = Summary {
         version: env!("CARGO_PKG_VERSION").to_string(),
         case: case.name.clone(),
@@ -681,9 +489,9 @@ fn run_loop<const D: usize>(
         t_max_roof_force_up: peaks.t_max_roof_force_up,
         max_roof_p: peaks.max_roof_p,
         t_max_roof_p: peaks.t_max_roof_p,
-        max_eta_left: max_of(col("eta_left")),
-        min_eta_left: min_of(col("eta_left")),
-        max_eta_right: max_of(col("eta_right")),
+        max_eta_left: result.max_of("eta_left"),
+        min_eta_left: result.min_of("eta_left"),
+        max_eta_right: result.max_of("eta_right"),
         max_abs_base_shear_x: peaks.max_abs_base_shear_x,
         lost_particles: lost,
         smoothing_length: sim.smoothing_length(),
@@ -719,24 +527,15 @@ fn run_loop<const D: usize>(
         input_spectrum: None,
         post: Vec::new(),
         post_error: None,
-        load_filter,
-        max_abs_base_shear_x_lp: peak_lp(&load_peaks, "base_shear_x"),
-        max_roof_force_up_lp: max_of(col("roof_force_up_lp")).max(0.0),
-        load_peaks,
+        load_filter: result.load_filter.clone(),
+        max_abs_base_shear_x_lp: peak_lp(&result.load_peaks, "base_shear_x"),
+        max_roof_force_up_lp: result.max_of("roof_force_up_lp").max(0.0),
+        load_peaks: result.load_peaks.clone(),
         roof_contact,
-        roof_note: roof_note(roof.has_roof(), roof_contact),
+        roof_note: roof_note(result.roof.has_roof(), roof_contact),
     };
-    if roof.has_roof() {
-        let column = |name: &str| col(name).cloned().unwrap_or_default();
-        let tank = roof_tank(&summary.tank, sim.params(), summary.theory.omega_1);
-        summary.impacts = crate::roof::find_impacts(
-            &column("t"),
-            &column("roof_force_up"),
-            &column("roof_p_max"),
-            &column("crest_vz"),
-            &column("roof_contact_extent"),
-            &tank,
-        );
+    if result.roof.has_roof() {
+        summary.impacts = std::mem::take(&mut result.impacts);
         if let Some(top) = summary
             .impacts
             .iter()
@@ -745,13 +544,13 @@ fn run_loop<const D: usize>(
             summary.kurihara_at_max = top.p_kurihara;
             summary.malhotra_at_max = top.p_malhotra;
         }
-        if let Err(e) = roof.write(out, opts.plots && roof_contact) {
+        if let Err(e) = crate::roof_files::write_roof_pressure(&result.roof, out, opts.plots && roof_contact) {
             summary
                 .output_errors
                 .push(format!("roof pressure map: {e:#}"));
         }
         if opts.plots && roof_contact && summary.max_roof_p > 0.0 {
-            if let Err(e) = roof.write_fig7(out, summary.t_max_roof_p, settle) {
+            if let Err(e) = crate::roof_files::write_fig7(&result.roof, out, summary.t_max_roof_p, settle) {
                 summary.output_errors.push(format!("Fig. 7 plots: {e:#}"));
             }
         }
@@ -771,8 +570,8 @@ fn run_loop<const D: usize>(
     // Post-processing hook of the script (keeps the other outputs when it fails).
     let mut post_error = None;
     if case.excitation.has_post() {
-        let mut data = crate::post::run_data(&summary, &cols.names, &history);
-        data.maps.push(("roof_pressure".into(), roof.map_rows()));
+        let mut data = crate::post::run_data(&summary, &result.columns, &result.series);
+        data.maps.push(("roof_pressure".into(), result.roof.map_rows()));
         match case.excitation.post(&data) {
             Ok(result) => {
                 summary.post = result.values.clone();
@@ -789,7 +588,7 @@ fn run_loop<const D: usize>(
         }
     }
     if opts.plots {
-        if let Err(e) = write_plots(out, &cols.names, &history, D, &summary) {
+        if let Err(e) = write_plots(out, &result.columns, &result.series, D, &summary) {
             summary.output_errors.push(format!("plots: {e:#}"));
         }
     }
@@ -841,25 +640,6 @@ fn run_loop<const D: usize>(
     Ok(summary)
 }
 
-/// Appends the filtered copies of the load columns to `cols` and `history` and writes
-/// `series.csv` again with them; returns the new column layout and the peaks.
-fn with_filtered_loads(
-    out: &Path,
-    cols: Columns,
-    history: &mut Vec<Vec<f64>>,
-    filter: &mut LoadFilter,
-) -> Result<(Columns, Vec<LoadPeak>)> {
-    let mut names = cols.names.clone();
-    let peaks = add_filtered_columns(filter, &mut names, history);
-    rewrite_series(&out.join("series.csv"), &names, history)?;
-    Ok((Columns { names, ..cols }, peaks))
-}
-
-/// Whether the liquid touched the roof: a roof pressure above [`WET_PRESSURE`] in a row of
-/// the series or at any step (`step_peak`, so that a contact between two rows counts).
-fn touched_roof(names: &[(String, String)], history: &[Vec<f64>], step_peak: f64) -> bool {
-    max_of_column(names, history, "roof_p_max").max(step_peak) > WET_PRESSURE
-}
 
 /// Writes `series.csv` (and its units file) again with every column, the filtered load
 /// columns appended after the raw ones.
@@ -887,21 +667,6 @@ fn rewrite_series(path: &Path, names: &[(String, String)], history: &[Vec<f64>])
     Ok(())
 }
 
-/// Largest finite value of a column (−∞ when it has none or is missing).
-fn max_of_column(names: &[(String, String)], history: &[Vec<f64>], name: &str) -> f64 {
-    names
-        .iter()
-        .position(|(n, _)| n == name)
-        .map(|i| {
-            history[i]
-                .iter()
-                .copied()
-                .filter(|x| x.is_finite())
-                .fold(f64::NEG_INFINITY, f64::max)
-        })
-        .unwrap_or(f64::NEG_INFINITY)
-}
-
 /// The filtered peak of `column` (0 when the run has no such column).
 fn peak_lp(peaks: &[LoadPeak], column: &str) -> f64 {
     peaks
@@ -923,38 +688,9 @@ fn roof_note(has_roof: bool, contact: bool) -> Option<String> {
     }
 }
 
-/// Overturning-moment coefficients c_k of the load points, M = Σ_k p_k c_k: the moment of the
-/// liquid's pressure on walls, bottom and roof about a horizontal axis through the centre of
-/// the floor (Housner's overturning moment including the base pressure). 2D: about the axis
-/// normal to the section, M = Σ p A [(z − z_f) n_x − (x − x_c) n_z] (N·m/m), positive when the
-/// liquid pushes the tank over towards +x. 3D: that moment about the y axis, and about the x
-/// axis M_x = Σ p A [(y − y_c) n_z − (z − z_f) n_y].
-fn overturning_levers<const D: usize>(sim: &Simulation<D>) -> Vec<Vec<f64>> {
-    let loads = sim.loads();
-    let (lo, hi) = sim.interior_bounds();
-    let centre: Vec<f64> = (0..D - 1).map(|k| 0.5 * (lo[k] + hi[k])).collect();
-    let floor = lo[D - 1];
-    let about_y = |k: usize| {
-        let (x, n, a) = (loads.positions()[k], loads.normals()[k], loads.areas()[k]);
-        a * ((x[D - 1] - floor) * n[0] - (x[0] - centre[0]) * n[D - 1])
-    };
-    let mut levers = vec![(0..loads.len()).map(about_y).collect::<Vec<f64>>()];
-    if D == 3 {
-        levers.push(
-            (0..loads.len())
-                .map(|k| {
-                    let (x, n, a) = (loads.positions()[k], loads.normals()[k], loads.areas()[k]);
-                    a * ((x[1] - centre[1]) * n[2] - (x[2] - floor) * n[1])
-                })
-                .collect(),
-        );
-    }
-    levers
-}
-
 /// Kurihara's tank numbers from the script's tank: depth H, freeboard H′ at the wall,
 /// half-width l (or radius), ω = the first sloshing mode.
-fn roof_tank(tank: &TankSpec, params: &SphParams, omega_1: f64) -> crate::roof::RoofTank {
+fn roof_tank(tank: &TankSpec, params: &SphParams, omega_1: f64) -> RoofTank {
     let (depth, height, half_width) = match tank {
         TankSpec::Rect {
             width,
@@ -975,7 +711,7 @@ fn roof_tank(tank: &TankSpec, params: &SphParams, omega_1: f64) -> crate::roof::
             ..
         } => (*depth, *height, 0.5 * length),
     };
-    crate::roof::RoofTank {
+    RoofTank {
         density: params.rest_density,
         gravity: params.gravity,
         depth,

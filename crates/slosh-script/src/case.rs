@@ -35,6 +35,14 @@ pub struct Excitation {
     shared: Shared,
 }
 
+/// The script's `fn ground_accel(t)` drives the run loop of `slosh-run`: called once per
+/// step with the time since the excitation started.
+impl slosh_run::GroundMotion for Excitation {
+    fn ground_accel(&mut self, t: f64) -> Result<[f64; 3], slosh_run::MotionError> {
+        Excitation::ground_accel(self, t).map_err(Into::into)
+    }
+}
+
 /// Extra results of `fn post(run)`.
 #[derive(Debug, Default)]
 pub struct PostResult {

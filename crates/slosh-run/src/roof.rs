@@ -2,12 +2,9 @@
 //! Kurihara's and Malhotra's formulas beside the SPH peak (paper §3.2), and pressure-field
 //! snapshots around the largest impact (paper Fig. 7).
 
-use anyhow::Result;
 use serde::Serialize;
 use slosh_core::{Simulation, Vector};
-use slosh_io::{Field2d, PlotSpec, PointArray};
 use slosh_theory::roof::{kurihara_roof_pressure, malhotra_roof_pressure, MALHOTRA_DEFAULT_ANGLE};
-use std::path::Path;
 
 /// One roof impact: a run of output rows with liquid on the roof.
 #[derive(Clone, Debug, Serialize)]
@@ -49,11 +46,15 @@ pub struct RoofTank {
     pub omega: f64,
 }
 
-/// A particle snapshot of a 2D run (positions and pressure), for Fig. 7.
-struct Snapshot {
-    time: f64,
-    position: Vec<[f64; 2]>,
-    pressure: Vec<f64>,
+/// A particle snapshot of a 2D run (positions and pressure), for paper Fig. 7.
+#[derive(Clone, Debug)]
+pub struct RoofSnapshot {
+    /// Simulation time (s).
+    pub time: f64,
+    /// Fluid positions (x, vertical) (m).
+    pub position: Vec<[f64; 2]>,
+    /// Fluid pressures (Pa).
+    pub pressure: Vec<f64>,
 }
 
 /// Collects the roof pressure map and the 2D snapshots during a run.
@@ -66,7 +67,7 @@ pub struct RoofMonitor<const D: usize> {
     wall_distance: Vec<f64>,
     times: Vec<f64>,
     map: Vec<f64>,
-    snapshots: Vec<Snapshot>,
+    snapshots: Vec<RoofSnapshot>,
     keep_snapshots: bool,
     interior: (Vector<D>, Vector<D>),
     spacing: f64,
@@ -151,89 +152,15 @@ impl<const D: usize> RoofMonitor<D> {
             return;
         }
         let fluid = sim.fluid();
-        self.snapshots.push(Snapshot {
+        self.snapshots.push(RoofSnapshot {
             time: sim.time(),
             position: fluid.position.iter().map(|p| [p[0], p[D - 1]]).collect(),
             pressure: fluid.pressure.clone(),
         });
     }
 
-    /// Writes `roof_pressure.csv` (2D: rows = time, columns = x along the roof; 3D: columns =
-    /// roof point index, with `roof_points.csv` and `roof_points.vtp` giving the points, their
-    /// peak pressure and its time) and the 2D map plot.
-    pub fn write(&self, out: &Path, plots: bool) -> Result<()> {
-        if self.points.is_empty() || self.times.is_empty() {
-            return Ok(());
-        }
-        let n = self.points.len();
-        if D == 2 {
-            let xs: Vec<f64> = self.positions.iter().map(|p| p[0]).collect();
-            slosh_io::write_grid_csv(
-                out.join("roof_pressure.csv"),
-                "t",
-                &self.times,
-                &xs,
-                &self.map,
-            )?;
-            if plots {
-                slosh_io::heatmap(
-                    out.join("plots").join("roof_pressure_map"),
-                    &PlotSpec::new(
-                        "Roof pressure (time-windowed)",
-                        "time t [s]",
-                        "x along the roof [m]",
-                    ),
-                    &Field2d {
-                        xs: &self.times,
-                        ys: &xs,
-                        values: &self.map,
-                        value_label: "p [Pa]".into(),
-                    },
-                )?;
-            }
-        } else {
-            let idx: Vec<f64> = (0..n).map(|i| i as f64).collect();
-            slosh_io::write_grid_csv(
-                out.join("roof_pressure.csv"),
-                "t",
-                &self.times,
-                &idx,
-                &self.map,
-            )?;
-            let mut table = slosh_io::TableWriter::create_whole(
-                out.join("roof_points.csv"),
-                &["index", "x", "y", "z", "area", "p_peak", "t_peak"],
-            )?;
-            let (peak, t_peak) = self.peaks();
-            for i in 0..n {
-                let p = self.positions[i];
-                table.write_row(&[
-                    i as f64,
-                    p[0],
-                    p[1],
-                    p[2],
-                    self.areas[i],
-                    peak[i],
-                    t_peak[i],
-                ])?;
-            }
-            table.finish()?;
-            let points: Vec<[f64; 3]> = self.positions.iter().map(|p| [p[0], p[1], p[2]]).collect();
-            slosh_io::write_vtp(
-                out.join("roof_points.vtp"),
-                &points,
-                &[
-                    PointArray::scalar("p_peak", &peak),
-                    PointArray::scalar("t_peak", &t_peak),
-                    PointArray::scalar("area", &self.areas),
-                ],
-            )?;
-        }
-        Ok(())
-    }
-
     /// Peak pressure of each roof point and its time.
-    fn peaks(&self) -> (Vec<f64>, Vec<f64>) {
+    pub fn peaks(&self) -> (Vec<f64>, Vec<f64>) {
         let n = self.points.len();
         let mut peak = vec![0.0; n];
         let mut t_peak = vec![0.0; n];
@@ -258,56 +185,29 @@ impl<const D: usize> RoofMonitor<D> {
         self.map.chunks(n).map(|c| c.to_vec()).collect()
     }
 
-    /// Draws the 2D pressure field at t_peak − 0.06 s, t_peak, t_peak + 0.06 s (paper Fig. 7
-    /// shows 1.55, 1.61 and 1.67 s after the excitation start) as `plots/fig7_*.png`.
-    pub fn write_fig7(&self, out: &Path, t_peak: f64, settle: f64) -> Result<()> {
-        if self.snapshots.is_empty() || D != 2 {
-            return Ok(());
-        }
-        let dir = out.join("plots");
-        std::fs::create_dir_all(&dir)?;
-        let (lo, hi) = self.interior;
-        let dx = self.spacing;
-        let nx = ((hi[0] - lo[0]) / dx).round().max(1.0) as usize;
-        let ny = ((hi[D - 1] - lo[D - 1]) / dx).round().max(1.0) as usize;
-        let xs: Vec<f64> = (0..nx).map(|i| lo[0] + (i as f64 + 0.5) * dx).collect();
-        let ys: Vec<f64> = (0..ny).map(|j| lo[D - 1] + (j as f64 + 0.5) * dx).collect();
-        for (label, offset) in [("a", -0.06), ("b", 0.0), ("c", 0.06)] {
-            let target = t_peak + offset;
-            let Some(snap) = self
-                .snapshots
-                .iter()
-                .min_by(|a, b| (a.time - target).abs().total_cmp(&(b.time - target).abs()))
-            else {
-                continue;
-            };
-            let mut values = vec![f64::NAN; nx * ny];
-            for (p, &pr) in snap.position.iter().zip(&snap.pressure) {
-                let i = ((p[0] - lo[0]) / dx).floor();
-                let j = ((p[1] - lo[D - 1]) / dx).floor();
-                if i >= 0.0 && j >= 0.0 && (i as usize) < nx && (j as usize) < ny {
-                    values[i as usize * ny + j as usize] = pr;
-                }
-            }
-            slosh_io::heatmap(
-                dir.join(format!("fig7_{label}")),
-                &PlotSpec::new(
-                    format!(
-                        "Pressure field at {:.2} s after the excitation start",
-                        snap.time - settle
-                    ),
-                    "x [m]",
-                    "y [m]",
-                ),
-                &Field2d {
-                    xs: &xs,
-                    ys: &ys,
-                    values: &values,
-                    value_label: "p [Pa]".into(),
-                },
-            )?;
-        }
-        Ok(())
+    /// Roof load points: their positions (ordered along x) and areas (m², 2D m).
+    pub fn points(&self) -> (&[Vector<D>], &[f64]) {
+        (&self.positions, &self.areas)
+    }
+
+    /// Times of the rows of the pressure map (s).
+    pub fn times(&self) -> &[f64] {
+        &self.times
+    }
+
+    /// The pressure map, row-major: one row per output row, one column per roof point (Pa).
+    pub fn map(&self) -> &[f64] {
+        &self.map
+    }
+
+    /// The 2D fluid snapshots kept for the pressure-field plots of paper Fig. 7.
+    pub fn snapshots(&self) -> &[RoofSnapshot] {
+        &self.snapshots
+    }
+
+    /// The interior of the tank (lower and upper corners, m) and the lattice spacing (m).
+    pub fn interior(&self) -> ((Vector<D>, Vector<D>), f64) {
+        (self.interior, self.spacing)
     }
 }
 

@@ -1,0 +1,142 @@
+//! The roof files of a run: `roof_pressure.csv` (with `roof_points.csv`/`.vtp` in 3D), the
+//! roof pressure map and the pressure-field snapshots of paper Fig. 7, written from the
+//! roof analysis of `slosh-run`.
+
+use anyhow::Result;
+use slosh_io::{Field2d, PlotSpec, PointArray};
+use slosh_run::RoofMonitor;
+use std::path::Path;
+
+/// Writes `roof_pressure.csv` (2D: rows = time, columns = x along the roof; 3D: columns =
+/// roof point index, with `roof_points.csv` and `roof_points.vtp` giving the points, their
+/// peak pressure and its time) and the 2D map plot.
+pub fn write_roof_pressure<const D: usize>(roof: &RoofMonitor<D>, out: &Path, plots: bool) -> Result<()> {
+    let (positions, areas) = roof.points();
+    let (times, map) = (roof.times(), roof.map());
+    if positions.is_empty() || times.is_empty() {
+        return Ok(());
+    }
+    let n = positions.len();
+    if D == 2 {
+        let xs: Vec<f64> = positions.iter().map(|p| p[0]).collect();
+        slosh_io::write_grid_csv(
+            out.join("roof_pressure.csv"),
+            "t",
+            times,
+            &xs,
+            map,
+        )?;
+        if plots {
+            slosh_io::heatmap(
+                out.join("plots").join("roof_pressure_map"),
+                &PlotSpec::new(
+                    "Roof pressure (time-windowed)",
+                    "time t [s]",
+                    "x along the roof [m]",
+                ),
+                &Field2d {
+                    xs: times,
+                    ys: &xs,
+                    values: map,
+                    value_label: "p [Pa]".into(),
+                },
+            )?;
+        }
+    } else {
+        let idx: Vec<f64> = (0..n).map(|i| i as f64).collect();
+        slosh_io::write_grid_csv(
+            out.join("roof_pressure.csv"),
+            "t",
+            times,
+            &idx,
+            map,
+        )?;
+        let mut table = slosh_io::TableWriter::create_whole(
+            out.join("roof_points.csv"),
+            &["index", "x", "y", "z", "area", "p_peak", "t_peak"],
+        )?;
+        let (peak, t_peak) = roof.peaks();
+        for i in 0..n {
+            let p = positions[i];
+            table.write_row(&[
+                i as f64,
+                p[0],
+                p[1],
+                p[2],
+                areas[i],
+                peak[i],
+                t_peak[i],
+            ])?;
+        }
+        table.finish()?;
+        let points: Vec<[f64; 3]> = positions.iter().map(|p| [p[0], p[1], p[2]]).collect();
+        slosh_io::write_vtp(
+            out.join("roof_points.vtp"),
+            &points,
+            &[
+                PointArray::scalar("p_peak", &peak),
+                PointArray::scalar("t_peak", &t_peak),
+                PointArray::scalar("area", areas),
+            ],
+        )?;
+    }
+    Ok(())
+}
+
+
+
+/// Draws the 2D pressure field at t_peak − 0.06 s, t_peak, t_peak + 0.06 s (paper Fig. 7
+/// shows 1.55, 1.61 and 1.67 s after the excitation start) as `plots/fig7_*.png`.
+pub fn write_fig7<const D: usize>(
+    roof: &RoofMonitor<D>,
+    out: &Path,
+    t_peak: f64,
+    settle: f64,
+) -> Result<()> {
+    let snapshots = roof.snapshots();
+    if snapshots.is_empty() || D != 2 {
+        return Ok(());
+    }
+    let dir = out.join("plots");
+    std::fs::create_dir_all(&dir)?;
+    let ((lo, hi), dx) = roof.interior();
+    let nx = ((hi[0] - lo[0]) / dx).round().max(1.0) as usize;
+    let ny = ((hi[D - 1] - lo[D - 1]) / dx).round().max(1.0) as usize;
+    let xs: Vec<f64> = (0..nx).map(|i| lo[0] + (i as f64 + 0.5) * dx).collect();
+    let ys: Vec<f64> = (0..ny).map(|j| lo[D - 1] + (j as f64 + 0.5) * dx).collect();
+    for (label, offset) in [("a", -0.06), ("b", 0.0), ("c", 0.06)] {
+        let target = t_peak + offset;
+        let Some(snap) = snapshots
+            .iter()
+            .min_by(|a, b| (a.time - target).abs().total_cmp(&(b.time - target).abs()))
+        else {
+            continue;
+        };
+        let mut values = vec![f64::NAN; nx * ny];
+        for (p, &pr) in snap.position.iter().zip(&snap.pressure) {
+            let i = ((p[0] - lo[0]) / dx).floor();
+            let j = ((p[1] - lo[D - 1]) / dx).floor();
+            if i >= 0.0 && j >= 0.0 && (i as usize) < nx && (j as usize) < ny {
+                values[i as usize * ny + j as usize] = pr;
+            }
+        }
+        slosh_io::heatmap(
+            dir.join(format!("fig7_{label}")),
+            &PlotSpec::new(
+                format!(
+                    "Pressure field at {:.2} s after the excitation start",
+                    snap.time - settle
+                ),
+                "x [m]",
+                "y [m]",
+            ),
+            &Field2d {
+                xs: &xs,
+                ys: &ys,
+                values: &values,
+                value_label: "p [Pa]".into(),
+            },
+        )?;
+    }
+    Ok(())
+}
