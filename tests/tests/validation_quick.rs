@@ -4,7 +4,7 @@
 //! (rows marked OPEN are targets of still-open issues and do not fail). A few minutes on two
 //! cores.
 
-use slosh_cli::validate::{run_validation, ValidateOptions, Verdict};
+use slosh_validate::{run_validation, ValidateOptions, Verdict};
 
 #[test]
 fn quick_validation_suite_passes() {
@@ -12,7 +12,7 @@ fn quick_validation_suite_passes() {
     let report = run_validation(&ValidateOptions {
         quick: true,
         out: out.clone(),
-        verbose: true,
+        progress: Some(|line| eprintln!("{line}")),
         only: None,
     })
     .expect("the validation suite runs");

@@ -3,7 +3,7 @@
 //! numerical helpers (interpolation, zero crossings, least squares).
 
 use anyhow::{anyhow, Result};
-use nalgebra::Vector2;
+use slosh_run::{EachStep, HookError, StepPhase, Until};
 use slosh_core::loads::base_shear_x;
 use slosh_core::{Simulation, SphParams, PART_ROOF};
 use slosh_geometry::RectTank2;
@@ -20,15 +20,15 @@ pub struct Context {
     pub quick: bool,
     /// Output folder.
     pub out: PathBuf,
-    /// Progress lines on stderr.
-    pub verbose: bool,
+    /// Where progress lines go (`None` = nowhere).
+    pub progress: Option<fn(&str)>,
 }
 
 impl Context {
-    /// A progress line.
+    /// A progress line (indented under its stage).
     pub fn say(&self, what: &str) {
-        if self.verbose {
-            eprintln!("    {what}");
+        if let Some(progress) = self.progress {
+            progress(&format!("    {what}"));
         }
     }
 }
@@ -198,50 +198,100 @@ impl Runner {
         }
     }
 
-    /// Elevations (m) at the two wall gauges now.
-    pub fn wall_elevations(&self) -> (f64, f64) {
-        let eta = |x: f64| {
-            self.sim
-                .surface_level_at(&[x])
-                .map(|z| z - self.still_level)
-                .unwrap_or(f64::NAN)
-        };
-        (eta(self.gauge_x.0), eta(self.gauge_x.1))
-    }
-
     /// Steps until simulation time `t_end` (s), calling `hook` after every step.
-    pub fn run_until<F: FnMut(&Runner)>(&mut self, t_end: f64, mut hook: F) -> Result<()> {
+    pub fn run_until<F: FnMut(&Simulation<2>)>(
+        &mut self,
+        t_end: f64,
+        mut hook: F,
+    ) -> Result<()> {
         let n_particles =
             (self.sim.fluid().position.len() + self.sim.walls().position.len()) as f64;
-        while self.sim.time() < t_end {
-            if self.sim.time() >= self.next_sample - 1e-12 {
-                let (l, r) = self.wall_elevations();
-                self.history.t.push(self.sim.time());
-                self.history.eta_left.push(l);
-                self.history.eta_right.push(r);
-                self.next_sample += self.sample_interval;
-            }
-            let a = self.excitation.ground_accel(self.sim.time());
-            self.sim.step(Vector2::new(a, 0.0)).map_err(|e| {
-                anyhow!(
-                    "the simulation stopped at t = {:.3} s: {e}",
-                    self.sim.time()
-                )
-            })?;
-            self.history.particle_steps += n_particles;
-            if let Some(c) = self.sim.loads().centred() {
-                if self.last_load_step != Some(c.step) {
-                    self.last_load_step = Some(c.step);
-                    self.history.load_t.push(c.time);
-                    self.history
-                        .base_shear
-                        .push(base_shear_x(c, self.roof_part));
+        let Runner {
+            sim,
+            excitation,
+            history,
+            gauge_x,
+            still_level,
+            sample_interval,
+            next_sample,
+            roof_part,
+            last_load_step,
+        } = self;
+        step_until_around(
+            sim,
+            |t| [excitation.ground_accel(t), 0.0, 0.0],
+            t_end,
+            "the simulation stopped",
+            |phase, sim| {
+                match phase {
+                    StepPhase::Before(_) => {
+                        if sim.time() >= *next_sample - 1e-12 {
+                            let (l, r) = wall_elevations(sim, *gauge_x, *still_level);
+                            history.t.push(sim.time());
+                            history.eta_left.push(l);
+                            history.eta_right.push(r);
+                            *next_sample += *sample_interval;
+                        }
+                    }
+                    StepPhase::After => {
+                        history.particle_steps += n_particles;
+                        if let Some(c) = sim.loads().centred() {
+                            if *last_load_step != Some(c.step) {
+                                *last_load_step = Some(c.step);
+                                history.load_t.push(c.time);
+                                history.base_shear.push(base_shear_x(c, *roof_part));
+                            }
+                        }
+                        hook(sim);
+                    }
                 }
-            }
-            hook(self);
-        }
-        Ok(())
+                Ok(())
+            },
+        )
     }
+}
+
+/// Elevations (m) above `still_level` at the wall gauges `gauge_x` of a 2D tank.
+fn wall_elevations(sim: &Simulation<2>, gauge_x: (f64, f64), still_level: f64) -> (f64, f64) {
+    let eta = |x: f64| {
+        sim.surface_level_at(&[x])
+            .map(|z| z - still_level)
+            .unwrap_or(f64::NAN)
+    };
+    (eta(gauge_x.0), eta(gauge_x.1))
+}
+
+/// Advances `sim` while its time is below `t_end` (s) under the ground acceleration
+/// `accel(t)` (`[x, y, vertical]`, m/s²) through the run loop of `slosh-run`, calling `after`
+/// after each step; a failure says that `what` stopped and when.
+pub fn step_until<const D: usize>(
+    sim: &mut Simulation<D>,
+    mut accel: impl FnMut(f64) -> [f64; 3],
+    t_end: f64,
+    what: &str,
+    after: impl FnMut(&Simulation<D>) -> Result<(), HookError>,
+) -> Result<()> {
+    slosh_run::advance_with(sim, &mut accel, Until::Time(t_end), after)
+        .map_err(|e| anyhow!("{what} at t = {:.3} s: {e}", sim.time()))
+}
+
+/// [`step_until`] with a hook called before each step (with the acceleration it applies) and
+/// after it.
+pub fn step_until_around<const D: usize>(
+    sim: &mut Simulation<D>,
+    mut accel: impl FnMut(f64) -> [f64; 3],
+    t_end: f64,
+    what: &str,
+    each: impl FnMut(StepPhase, &Simulation<D>) -> Result<(), HookError>,
+) -> Result<()> {
+    slosh_run::advance(
+        sim,
+        &mut accel,
+        Until::Time(t_end),
+        &mut EachStep(each),
+        &mut (),
+    )
+    .map_err(|e| anyhow!("{what} at t = {:.3} s: {e}", sim.time()))
 }
 
 /// Linear interpolation of (xs, ys) at x (xs increasing); NaN outside.

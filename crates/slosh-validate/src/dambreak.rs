@@ -7,29 +7,29 @@
 //! starts at ρ0, p = 0) and no gate: both make the surge start slightly differently from the
 //! experiments; the tolerances below say so.
 
+use crate::run::step_until;
 use super::run::{interpolate, Context, Scheme, GRAVITY, RHO};
 use super::{
     fmt_num, info_row, open_if_failed, relative_check, stayed_inside, Check, GroupResult, Verdict,
 };
-use anyhow::{anyhow, Result};
-use nalgebra::Vector2;
+use anyhow::Result;
 use slosh_core::{Simulation, SphParams, PART_WALL};
 use slosh_geometry::RectTank2;
 use slosh_io::{PlotSpec, Series};
 
-const MM_SMALL: &str = include_str!("../../../../data/dambreak_MartinMoyce1952_n2_2_a1p125in.csv");
-const MM_LARGE: &str = include_str!("../../../../data/dambreak_MartinMoyce1952_n2_2_a2p25in.csv");
-const KO_FRONT: &str = include_str!("../../../../data/dambreak_KoshizukaOka1996_exp_front.csv");
+const MM_SMALL: &str = include_str!("../../../data/dambreak_MartinMoyce1952_n2_2_a1p125in.csv");
+const MM_LARGE: &str = include_str!("../../../data/dambreak_MartinMoyce1952_n2_2_a2p25in.csv");
+const KO_FRONT: &str = include_str!("../../../data/dambreak_KoshizukaOka1996_exp_front.csv");
 /// The same Koshizuka & Oka experiment as DualSPHysics ships it: time (s), front x (m) for a
 /// column 1 m wide and 2 m high (a second digitisation of the same figure).
 const KO_FRONT_DUALSPHYSICS: &[u8] =
-    include_bytes!("../../../../data/dambreak_front_KoshizukaOka1996_DualSPHysics.txt");
+    include_bytes!("../../../data/dambreak_front_KoshizukaOka1996_DualSPHysics.txt");
 /// Column width (m) of [`KO_FRONT_DUALSPHYSICS`].
 const KO_DUALSPHYSICS_COLUMN: f64 = 1.0;
-const BUCHNER: &str = include_str!("../../../../data/dambreak_Buchner2002_pressure.csv");
-const LOBOVSKY_P1: &str = include_str!("../../../../data/dambreak_Lobovsky2014_P1_pressure.csv");
-const LOBOVSKY_P3: &str = include_str!("../../../../data/dambreak_Lobovsky2014_P3_pressure.csv");
-const LOBOVSKY_P4: &str = include_str!("../../../../data/dambreak_Lobovsky2014_P4_pressure.csv");
+const BUCHNER: &str = include_str!("../../../data/dambreak_Buchner2002_pressure.csv");
+const LOBOVSKY_P1: &str = include_str!("../../../data/dambreak_Lobovsky2014_P1_pressure.csv");
+const LOBOVSKY_P3: &str = include_str!("../../../data/dambreak_Lobovsky2014_P3_pressure.csv");
+const LOBOVSKY_P4: &str = include_str!("../../../data/dambreak_Lobovsky2014_P4_pressure.csv");
 
 /// Front: column width a (m), height 2a (Martin & Moyce n² = 2, Koshizuka & Oka).
 const FRONT_COLUMN: f64 = 0.1;
@@ -236,16 +236,15 @@ fn front_inner(
     let (mut ts, mut zs) = (vec![0.0], vec![1.0]);
     let mut steps = 0.0;
     let mut next = 0.002;
-    while sim.time() < t_end {
-        sim.step(Vector2::zeros())
-            .map_err(|e| anyhow!("the dam break stopped at t = {:.3} s: {e}", sim.time()))?;
+    step_until(&mut sim, |_| [0.0; 3], t_end, "the dam break stopped", |sim| {
         steps += n_all;
         if sim.time() >= next {
             next += 0.002;
             ts.push(sim.time() * t_scale);
-            zs.push(front_position(&sim, 0.5 * FRONT_DX, 0.5 * a) / a);
+            zs.push(front_position(sim, 0.5 * FRONT_DX, 0.5 * a) / a);
         }
-    }
+        Ok(())
+    })?;
     let mut g = GroupResult {
         particle_steps: steps,
         ..GroupResult::default()
@@ -453,9 +452,8 @@ fn wall_pressure_inner(ctx: &Context, scheme: &Scheme, group: &str) -> Result<Gr
     let mut last_step = None;
     let mut steps = 0.0;
     let p_scale = RHO * GRAVITY * h;
-    while sim.time() < t_final / t_scale + 0.01 {
-        sim.step(Vector2::zeros())
-            .map_err(|e| anyhow!("the dam break stopped at t = {:.3} s: {e}", sim.time()))?;
+    let t_end = t_final / t_scale + 0.01;
+    step_until(&mut sim, |_| [0.0; 3], t_end, "the dam break stopped", |sim| {
         steps += n_all;
         if let Some(c) = sim.loads().centred() {
             if last_step != Some(c.step) {
@@ -467,7 +465,8 @@ fn wall_pressure_inner(ctx: &Context, scheme: &Scheme, group: &str) -> Result<Gr
                 }
             }
         }
-    }
+        Ok(())
+    })?;
     let mut g = GroupResult {
         particle_steps: steps,
         ..GroupResult::default()
@@ -711,20 +710,16 @@ fn viscous_current_inner(ctx: &Context, group: &str) -> Result<GroupResult> {
         ));
         let (mut ts, mut xs) = (Vec::new(), Vec::new());
         let mut next = 0.05;
-        while sim.time() < t_stop {
-            sim.step(Vector2::zeros()).map_err(|e| {
-                anyhow!(
-                    "the viscous current stopped at t = {:.3} s: {e}",
-                    sim.time()
-                )
-            })?;
-            g.particle_steps += n_all;
+        let particle_steps = &mut g.particle_steps;
+        step_until(&mut sim, |_| [0.0; 3], t_stop, "the viscous current stopped", |sim| {
+            *particle_steps += n_all;
             if sim.time() >= next {
                 next += 0.05;
                 ts.push(sim.time());
-                xs.push(front_position(&sim, 0.5 * dx, 0.25 * a) / a);
+                xs.push(front_position(sim, 0.5 * dx, 0.25 * a) / a);
             }
-        }
+            Ok(())
+        })?;
         g.checks.push(stayed_inside(group, &sim));
         if no_slip {
             let errors: Vec<f64> = ts

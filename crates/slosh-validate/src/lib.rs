@@ -1,9 +1,12 @@
-//! `slosh validate`: runs the solver (paper scheme, `SphParams::default()`) on a fixed list of
-//! cases, compares each with its reference (closed forms of `slosh-theory`, published
+//! The validation suite of slosh (`slosh validate`): runs the solver (paper scheme,
+//! `SphParams::default()`, and the modern scheme beside it) on a fixed list of cases through the
+//! run loop of `slosh-run`, compares each with its reference (closed forms of `slosh-theory`, published
 //! experiments in `data/`) and writes `report.md` with plots.
 //!
 //! Every check carries its tolerance and the reason for it; a check whose reference is only
 //! informative (no tolerance) is reported as INFO and never fails the suite.
+
+#![warn(missing_docs)]
 
 mod dambreak;
 mod modern;
@@ -28,8 +31,8 @@ pub struct ValidateOptions {
     pub quick: bool,
     /// Output folder for `report.md` and the plots.
     pub out: PathBuf,
-    /// Print one line per case to stderr.
-    pub verbose: bool,
+    /// Where progress lines go (one per stage and per case); `None` = nowhere.
+    pub progress: Option<fn(&str)>,
     /// Run only the stages whose name contains this text (case-insensitive); `None` = all.
     pub only: Option<String>,
 }
@@ -309,7 +312,7 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
     let ctx = run::Context {
         quick: opts.quick,
         out: opts.out.clone(),
-        verbose: opts.verbose,
+        progress: opts.progress,
     };
     type StageRun = Box<dyn Fn(&run::Context) -> Vec<(String, GroupResult)>>;
     type Stage<'a> = (&'a str, StageRun);
@@ -430,8 +433,11 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
     };
     let mut groups: Vec<(String, GroupResult)> = Vec::new();
     let stage = |name: &str| {
-        if opts.verbose {
-            eprintln!("[validate {:6.1} s] {name}", start.elapsed().as_secs_f64());
+        if let Some(progress) = opts.progress {
+            progress(&format!(
+                "[validate {:6.1} s] {name}",
+                start.elapsed().as_secs_f64()
+            ));
         }
     };
     for (name, run_stage) in &stages {
@@ -455,43 +461,6 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
     };
     write_report(&report, &report_path)?;
     Ok(report)
-}
-
-/// The `slosh validate [--quick] [--out DIR]` command: runs the suite, prints the table and
-/// where the report is; returns true when every check passed.
-pub fn cli_validate(quick: bool, out: PathBuf, only: Option<String>) -> Result<bool> {
-    let report = run_validation(&ValidateOptions {
-        quick,
-        out,
-        verbose: true,
-        only,
-    })?;
-    print_summary(&report);
-    Ok(report.all_pass())
-}
-
-/// One line per check on stdout, then the verdict.
-fn print_summary(report: &ValidationReport) {
-    for c in report.checks() {
-        println!(
-            "{:4}  {} / {}: {} vs {} ({}; tolerance {})",
-            c.verdict.label(),
-            c.group,
-            c.name,
-            c.measured,
-            c.reference,
-            c.error,
-            c.tolerance
-        );
-    }
-    let failures = report.failures();
-    println!(
-        "{} checks, {} failed, {:.0} s; report: {}",
-        report.checks().count(),
-        failures.len(),
-        report.wall_time_s,
-        report.report_path.display()
-    );
 }
 
 /// Path of a plot stem in the output folder.

@@ -10,7 +10,7 @@ use super::{
     failed_run, fmt_num, info_row, plot_path, ratio_band_check, relative_check, GroupResult,
     PlotRef,
 };
-use slosh_core::SphParams;
+use slosh_core::{Simulation, SphParams};
 use slosh_io::{scatter_with_identity, PlotSpec, Series};
 use slosh_theory::housner;
 use slosh_theory::linear::RectangularTank;
@@ -105,17 +105,17 @@ fn paper_forced_inner(ctx: &Context) -> anyhow::Result<Vec<GroupResult>> {
     ));
     let mut hydro: Option<(Vec<f64>, Vec<f64>)> = None;
     let mut snaps: Vec<WallSnapshot> = Vec::new();
-    runner.run_until(t_end, |r| {
-        if hydro.is_none() && r.sim.time() >= PAPER_SETTLE {
-            let f = r.sim.fluid();
+    runner.run_until(t_end, |sim| {
+        if hydro.is_none() && sim.time() >= PAPER_SETTLE {
+            let f = sim.fluid();
             let depth: Vec<f64> = f.position.iter().map(|p| still - p.y).collect();
             hydro = Some((depth, f.pressure.clone()));
         }
         let next = snaps.len();
-        if next < targets.len() && r.sim.time() >= PAPER_SETTLE + targets[next] {
-            let f = r.sim.fluid();
+        if next < targets.len() && sim.time() >= PAPER_SETTLE + targets[next] {
+            let f = sim.fluid();
             snaps.push(WallSnapshot {
-                time: r.sim.time(),
+                time: sim.time(),
                 positions: f.position.iter().map(|p| (p.x, p.y)).collect(),
                 pressure: f.pressure.clone(),
             });
@@ -756,24 +756,23 @@ pub fn free_period(
     let (mut ts, mut beta) = (Vec::new(), Vec::new());
     let mut next = 0.0;
     let still = runner.still_level;
-    let project = |r: &Runner, ts: &mut Vec<f64>, beta: &mut Vec<f64>| {
+    let project = |sim: &Simulation<2>, ts: &mut Vec<f64>, beta: &mut Vec<f64>| {
         let mut sum = 0.0;
         for &x in &gauges {
-            let eta = r
-                .sim
+            let eta = sim
                 .surface_level_at(&[x])
                 .map(|z| z - still)
                 .unwrap_or(0.0);
             sum += eta * (k1 * x).cos();
         }
-        ts.push(r.sim.time());
+        ts.push(sim.time());
         beta.push(2.0 * sum / n_gauges as f64);
     };
-    project(&runner, &mut ts, &mut beta);
-    runner.run_until(periods * t1, |r| {
-        if r.sim.time() >= next {
+    project(&runner.sim, &mut ts, &mut beta);
+    runner.run_until(periods * t1, |sim| {
+        if sim.time() >= next {
             next += sample;
-            project(r, &mut ts, &mut beta);
+            project(sim, &mut ts, &mut beta);
         }
     })?;
     let beta0 = beta[0];

@@ -3,14 +3,14 @@
 //! base shear of a cylinder against the linear (Veletsos-type rigid tank) modal solution with
 //! Housner's approximation beside it; a thin 3D box against the 2D code.
 
+use crate::run::step_until;
 use super::run::{fitted_slope, rms, zero_crossings, Context, GRAVITY, RHO};
 use super::sloshing::period_from_crossings;
 use super::{
     failed_run, fmt_num, info_row, plot_path, relative_check, stayed_inside, Check, GroupResult,
     PlotRef, Verdict,
 };
-use anyhow::{anyhow, Result};
-use nalgebra::Vector3;
+use anyhow::Result;
 use slosh_core::loads::base_shear_x;
 use slosh_core::{Simulation, SphParams, PART_ROOF};
 use slosh_geometry::{BoxTank, CylinderTank, InitialSurface, Roof};
@@ -153,16 +153,15 @@ pub(crate) fn free_run<const D: usize>(
     };
     let mut steps = 0.0;
     let mut next = sample;
-    while sim.time() < t_end {
-        sim.step(nalgebra::SVector::<f64, D>::zeros())
-            .map_err(|e| anyhow!("stopped at t = {:.3} s: {e}", sim.time()))?;
+    step_until(sim, |_| [0.0; 3], t_end, "stopped", |sim| {
         steps += n_all;
         if sim.time() >= next {
             next += sample;
             h.t.push(sim.time());
             h.x.push(com_x(sim));
         }
-    }
+        Ok(())
+    })?;
     Ok((h, steps))
 }
 
@@ -327,15 +326,16 @@ pub(crate) fn cylinder_forced_inner(
     let mut last = None;
     let mut steps = 0.0;
     let mut next = 0.0;
-    while sim.time() < t_end {
-        let t = sim.time() - settle;
+    let ground = |t: f64| {
+        let t = t - settle;
         let a = if t < 0.0 {
             0.0
         } else {
             amplitude * omega * omega * (omega * t).sin()
         };
-        sim.step(Vector3::new(a, 0.0, 0.0))
-            .map_err(|e| anyhow!("stopped at t = {:.3} s: {e}", sim.time()))?;
+        [a, 0.0, 0.0]
+    };
+    step_until(&mut sim, ground, t_end, "stopped", |sim| {
         steps += n_all;
         let t = sim.time() - settle;
         if t >= 0.0 && sim.time() >= next {
@@ -359,7 +359,8 @@ pub(crate) fn cylinder_forced_inner(
                 }
             }
         }
-    }
+        Ok(())
+    })?;
     let mut g = GroupResult {
         particle_steps: steps,
         ..GroupResult::default()

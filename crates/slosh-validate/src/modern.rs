@@ -3,6 +3,8 @@
 //! suite) the 50 s run of the §3.3 case. The dam-break checks of the modern scheme live in
 //! `dambreak.rs` beside the paper scheme's.
 
+use crate::run::{step_until, step_until_around};
+use slosh_run::StepPhase;
 use super::run::{
     fitted_slope, max_in_window, rect_sim_with, rms, Context, Runner, Scheme, SineExcitation,
     GRAVITY, RHO,
@@ -13,7 +15,6 @@ use super::{
     failed_run, fmt_num, info_row, open_if_failed, ratio_band_check, relative_check, stayed_inside,
     Check, GroupResult, Verdict,
 };
-use nalgebra::Vector2;
 use slosh_core::{Simulation, SphParams, PART_ROOF};
 use slosh_geometry::{InitialSurface, RectTank2};
 use slosh_io::{PlotSpec, Series};
@@ -382,9 +383,9 @@ fn forced_run(
     ));
     let still = runner.still_level;
     let mut hydro: Option<(f64, f64)> = None;
-    runner.run_until(SETTLE + excitation_time, |r| {
-        if hydro.is_none() && r.sim.time() >= SETTLE {
-            let f = r.sim.fluid();
+    runner.run_until(SETTLE + excitation_time, |sim| {
+        if hydro.is_none() && sim.time() >= SETTLE {
+            let f = sim.fluid();
             let reference: Vec<f64> = f
                 .position
                 .iter()
@@ -614,10 +615,8 @@ fn roof_run(
     let (mut ts, mut windowed, mut particle_steps) = (Vec::new(), Vec::new(), 0.0);
     let mut raw_by_step: Vec<(f64, f64)> = Vec::new();
     let mut last = None;
-    while sim.time() < SETTLE + excitation_time {
-        let a = excitation.ground_accel(sim.time());
-        sim.step(Vector2::new(a, 0.0))
-            .map_err(|e| anyhow::anyhow!("stopped at t = {:.3} s: {e}", sim.time()))?;
+    let ground = |t| [excitation.ground_accel(t), 0.0, 0.0];
+    step_until(&mut sim, ground, SETTLE + excitation_time, "stopped", |sim| {
         particle_steps += n_all;
         let l = sim.loads();
         let p_raw = on_roof
@@ -636,7 +635,8 @@ fn roof_run(
                 windowed.push(p);
             }
         }
-    }
+        Ok(())
+    })?;
     // The raw series on the windowed series' times (the window lags N steps).
     let n = ts.len().min(raw_by_step.len());
     let raw: Vec<f64> = raw_by_step[..n].iter().map(|r| r.1).collect();
@@ -885,19 +885,24 @@ pub fn stability(ctx: &Context) -> GroupResult {
             rho.iter().sum::<f64>() / rho.len().max(1) as f64
         };
         let mut density_at_start = None;
-        while sim.time() < SETTLE + 50.0 {
-            if density_at_start.is_none() && sim.time() >= SETTLE {
-                density_at_start = Some(mean_density(&sim));
+        let ground = |t| [excitation.ground_accel(t), 0.0, 0.0];
+        step_until_around(&mut sim, ground, SETTLE + 50.0, "stopped", |phase, sim| {
+            match phase {
+                StepPhase::Before(_) => {
+                    if density_at_start.is_none() && sim.time() >= SETTLE {
+                        density_at_start = Some(mean_density(sim));
+                    }
+                }
+                StepPhase::After => {
+                    steps += n_all;
+                    let p = sim.loads().centred_pressure();
+                    for &k in &on_roof {
+                        roof_p = roof_p.max(p[k]);
+                    }
+                }
             }
-            let a = excitation.ground_accel(sim.time());
-            sim.step(Vector2::new(a, 0.0))
-                .map_err(|e| anyhow::anyhow!("stopped at t = {:.3} s: {e}", sim.time()))?;
-            steps += n_all;
-            let p = sim.loads().centred_pressure();
-            for &k in &on_roof {
-                roof_p = roof_p.max(p[k]);
-            }
-        }
+            Ok(())
+        })?;
         let densities = (density_at_start.unwrap_or(f64::NAN), mean_density(&sim));
         Ok(StabilityRun {
             end_time: sim.time(),
