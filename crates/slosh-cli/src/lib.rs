@@ -1,5 +1,6 @@
-//! The library behind the `slosh` command: building tanks from scripts, running cases and
-//! writing their outputs. The binary, `slosh validate` and the validation tests share it.
+//! The library behind the `slosh` command: building tanks from scripts, running cases through
+//! the run loop of `slosh-run` and writing their outputs. The binary and the end-to-end tests
+//! share it; the validation suite lives in `slosh-validate`.
 
 pub mod bench;
 pub mod build;

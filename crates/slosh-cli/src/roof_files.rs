@@ -10,7 +10,11 @@ use std::path::Path;
 /// Writes `roof_pressure.csv` (2D: rows = time, columns = x along the roof; 3D: columns =
 /// roof point index, with `roof_points.csv` and `roof_points.vtp` giving the points, their
 /// peak pressure and its time) and the 2D map plot.
-pub fn write_roof_pressure<const D: usize>(roof: &RoofMonitor<D>, out: &Path, plots: bool) -> Result<()> {
+pub fn write_roof_pressure<const D: usize>(
+    roof: &RoofMonitor<D>,
+    out: &Path,
+    plots: bool,
+) -> Result<()> {
     let (positions, areas) = roof.points();
     let (times, map) = (roof.times(), roof.map());
     if positions.is_empty() || times.is_empty() {
@@ -19,13 +23,7 @@ pub fn write_roof_pressure<const D: usize>(roof: &RoofMonitor<D>, out: &Path, pl
     let n = positions.len();
     if D == 2 {
         let xs: Vec<f64> = positions.iter().map(|p| p[0]).collect();
-        slosh_io::write_grid_csv(
-            out.join("roof_pressure.csv"),
-            "t",
-            times,
-            &xs,
-            map,
-        )?;
+        slosh_io::write_grid_csv(out.join("roof_pressure.csv"), "t", times, &xs, map)?;
         if plots {
             slosh_io::heatmap(
                 out.join("plots").join("roof_pressure_map"),
@@ -44,13 +42,7 @@ pub fn write_roof_pressure<const D: usize>(roof: &RoofMonitor<D>, out: &Path, pl
         }
     } else {
         let idx: Vec<f64> = (0..n).map(|i| i as f64).collect();
-        slosh_io::write_grid_csv(
-            out.join("roof_pressure.csv"),
-            "t",
-            times,
-            &idx,
-            map,
-        )?;
+        slosh_io::write_grid_csv(out.join("roof_pressure.csv"), "t", times, &idx, map)?;
         let mut table = slosh_io::TableWriter::create_whole(
             out.join("roof_points.csv"),
             &["index", "x", "y", "z", "area", "p_peak", "t_peak"],
@@ -58,15 +50,7 @@ pub fn write_roof_pressure<const D: usize>(roof: &RoofMonitor<D>, out: &Path, pl
         let (peak, t_peak) = roof.peaks();
         for i in 0..n {
             let p = positions[i];
-            table.write_row(&[
-                i as f64,
-                p[0],
-                p[1],
-                p[2],
-                areas[i],
-                peak[i],
-                t_peak[i],
-            ])?;
+            table.write_row(&[i as f64, p[0], p[1], p[2], areas[i], peak[i], t_peak[i]])?;
         }
         table.finish()?;
         let points: Vec<[f64; 3]> = positions.iter().map(|p| [p[0], p[1], p[2]]).collect();
@@ -82,8 +66,6 @@ pub fn write_roof_pressure<const D: usize>(roof: &RoofMonitor<D>, out: &Path, pl
     }
     Ok(())
 }
-
-
 
 /// Draws the 2D pressure field at t_peak − 0.06 s, t_peak, t_peak + 0.06 s (paper Fig. 7
 /// shows 1.55, 1.61 and 1.67 s after the excitation start) as `plots/fig7_*.png`.

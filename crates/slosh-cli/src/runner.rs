@@ -317,7 +317,11 @@ impl<const D: usize> Observer<D> for RunFiles {
         }
     }
 
-    fn series(&mut self, columns: &[(String, String)], series: &[Vec<f64>]) -> Result<(), HookError> {
+    fn series(
+        &mut self,
+        columns: &[(String, String)],
+        series: &[Vec<f64>],
+    ) -> Result<(), HookError> {
         if let Some(progress) = &self.progress {
             progress.finish();
         }
@@ -334,8 +338,10 @@ impl<const D: usize> Observer<D> for RunFiles {
 fn failure_of(status: RunStatus) -> Option<anyhow::Error> {
     match status {
         RunStatus::Finished => None,
-        RunStatus::Interrupted { code } => Some(crate::interrupt::Interrupted { signal: code }.into()),
-        RunStatus::Failed(StepError::Motion { source, .. }) => Some(anyhow::anyhow!(source)),
+        RunStatus::Interrupted { code } => {
+            Some(crate::interrupt::Interrupted { signal: code }.into())
+        }
+        RunStatus::Failed(StepError::Motion { error, .. }) => Some(anyhow::anyhow!(error)),
         RunStatus::Failed(e) => Some(e.into()),
     }
 }
@@ -439,8 +445,7 @@ fn run_built<const D: usize>(
     let measured_compression = result.hydrostatic_compression;
     let roof_contact = result.roof_contact;
     let particles = (n_fluid0 + n_wall) as f64;
-    let steps = sim.steps();
-    let lost = n_fluid0 - sim.fluid_inside();
+    let steps = result.steps;
     let choice = sim.sound_speed_choice().clone();
     if choice.compression_warning().is_none()
         && measured_compression > slosh_core::sound_speed::COMPRESSION_WARNING
@@ -474,7 +479,7 @@ fn run_built<const D: usize>(
         particles_fluid: n_fluid0,
         particles_wall: n_wall,
         steps,
-        sim_time: sim.time(),
+        sim_time: result.sim_time,
         settle,
         duration,
         dt_min: if steps > 0 { stats.dt_min } else { 0.0 },
@@ -493,7 +498,7 @@ fn run_built<const D: usize>(
         min_eta_left: result.min_of("eta_left"),
         max_eta_right: result.max_of("eta_right"),
         max_abs_base_shear_x: peaks.max_abs_base_shear_x,
-        lost_particles: lost,
+        lost_particles: result.lost_particles,
         smoothing_length: sim.smoothing_length(),
         dx: sim.spacing(),
         sound_speed: sim.sound_speed(),
@@ -544,13 +549,17 @@ fn run_built<const D: usize>(
             summary.kurihara_at_max = top.p_kurihara;
             summary.malhotra_at_max = top.p_malhotra;
         }
-        if let Err(e) = crate::roof_files::write_roof_pressure(&result.roof, out, opts.plots && roof_contact) {
+        if let Err(e) =
+            crate::roof_files::write_roof_pressure(&result.roof, out, opts.plots && roof_contact)
+        {
             summary
                 .output_errors
                 .push(format!("roof pressure map: {e:#}"));
         }
         if opts.plots && roof_contact && summary.max_roof_p > 0.0 {
-            if let Err(e) = crate::roof_files::write_fig7(&result.roof, out, summary.t_max_roof_p, settle) {
+            if let Err(e) =
+                crate::roof_files::write_fig7(&result.roof, out, summary.t_max_roof_p, settle)
+            {
                 summary.output_errors.push(format!("Fig. 7 plots: {e:#}"));
             }
         }
@@ -571,7 +580,8 @@ fn run_built<const D: usize>(
     let mut post_error = None;
     if case.excitation.has_post() {
         let mut data = crate::post::run_data(&summary, &result.columns, &result.series);
-        data.maps.push(("roof_pressure".into(), result.roof.map_rows()));
+        data.maps
+            .push(("roof_pressure".into(), result.roof.map_rows()));
         match case.excitation.post(&data) {
             Ok(result) => {
                 summary.post = result.values.clone();
@@ -639,7 +649,6 @@ fn run_built<const D: usize>(
     }
     Ok(summary)
 }
-
 
 /// Writes `series.csv` (and its units file) again with every column, the filtered load
 /// columns appended after the raw ones.

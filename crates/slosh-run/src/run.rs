@@ -62,7 +62,11 @@ pub trait Observer<const D: usize> {
     fn progress(&mut self, _time: f64, _steps: u64) {}
 
     /// The whole series at the end, with the low-pass load columns appended.
-    fn series(&mut self, _columns: &[(String, String)], _series: &[Vec<f64>]) -> Result<(), HookError> {
+    fn series(
+        &mut self,
+        _columns: &[(String, String)],
+        _series: &[Vec<f64>],
+    ) -> Result<(), HookError> {
         Ok(())
     }
 }
@@ -115,6 +119,12 @@ pub struct RunResult<const D: usize> {
     pub particles_fluid: usize,
     /// Wall particles.
     pub particles_wall: usize,
+    /// Steps taken.
+    pub steps: u64,
+    /// Simulated time reached (s).
+    pub sim_time: f64,
+    /// Fluid particles no longer inside the tank at the end.
+    pub lost_particles: usize,
     /// Wall-clock time of the time loop (s).
     pub wall_time_s: f64,
 }
@@ -290,7 +300,11 @@ impl<const D: usize, O: Observer<D> + ?Sized> CaseMeasurements<'_, D, O> {
         let pick = |part: Option<usize>| part.map(|k| loads.force[k][D - 1]).unwrap_or(0.0);
         values.push(pick(roof_part));
         values.push(roof_part.map(|k| loads.peak_pressure[k]).unwrap_or(0.0));
-        values.push(self.wall_part.map(|k| loads.peak_pressure[k]).unwrap_or(0.0));
+        values.push(
+            self.wall_part
+                .map(|k| loads.peak_pressure[k])
+                .unwrap_or(0.0),
+        );
         values.push(-pick(self.bottom_part));
         values.push(contact);
         for lever in &self.levers {
@@ -489,6 +503,9 @@ where
         hydrostatic_compression: compression.unwrap_or_else(|| sim.mean_compression()),
         particles_fluid,
         particles_wall,
+        steps: sim.steps(),
+        sim_time: sim.time(),
+        lost_particles: particles_fluid - sim.fluid_inside(),
         wall_time_s,
     };
     result.roof_contact =

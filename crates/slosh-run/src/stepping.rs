@@ -21,12 +21,12 @@ pub type HookError = Box<dyn Error + Send + Sync>;
 #[derive(Debug, thiserror::Error)]
 pub enum StepError {
     /// The ground motion could not give its acceleration.
-    #[error("the ground motion failed at t = {time:.4} s: {source}")]
+    #[error("the ground motion failed at t = {time:.4} s: {error}")]
     Motion {
         /// Simulation time (s).
         time: f64,
         /// The motion's error.
-        source: MotionError,
+        error: MotionError,
     },
     /// The solver refused the step (non-finite state, a blown-up time step).
     #[error(transparent)]
@@ -145,7 +145,7 @@ where
         let t = sim.time();
         let accel = motion
             .ground_accel(t)
-            .map_err(|source| StepError::Motion { time: t, source })?;
+            .map_err(|error| StepError::Motion { time: t, error })?;
         hooks.before_step(sim, accel).map_err(StepError::Hook)?;
         sim.step(to_vector::<D>(accel))?;
         if let Some(code) = stop.stop_requested() {

@@ -7,11 +7,11 @@
 //! starts at ρ0, p = 0) and no gate: both make the surge start slightly differently from the
 //! experiments; the tolerances below say so.
 
-use crate::run::step_until;
 use super::run::{interpolate, Context, Scheme, GRAVITY, RHO};
 use super::{
     fmt_num, info_row, open_if_failed, relative_check, stayed_inside, Check, GroupResult, Verdict,
 };
+use crate::run::step_until;
 use anyhow::Result;
 use slosh_core::{Simulation, SphParams, PART_WALL};
 use slosh_geometry::RectTank2;
@@ -236,15 +236,21 @@ fn front_inner(
     let (mut ts, mut zs) = (vec![0.0], vec![1.0]);
     let mut steps = 0.0;
     let mut next = 0.002;
-    step_until(&mut sim, |_| [0.0; 3], t_end, "the dam break stopped", |sim| {
-        steps += n_all;
-        if sim.time() >= next {
-            next += 0.002;
-            ts.push(sim.time() * t_scale);
-            zs.push(front_position(sim, 0.5 * FRONT_DX, 0.5 * a) / a);
-        }
-        Ok(())
-    })?;
+    step_until(
+        &mut sim,
+        |_| [0.0; 3],
+        t_end,
+        "the dam break stopped",
+        |sim| {
+            steps += n_all;
+            if sim.time() >= next {
+                next += 0.002;
+                ts.push(sim.time() * t_scale);
+                zs.push(front_position(sim, 0.5 * FRONT_DX, 0.5 * a) / a);
+            }
+            Ok(())
+        },
+    )?;
     let mut g = GroupResult {
         particle_steps: steps,
         ..GroupResult::default()
@@ -453,20 +459,26 @@ fn wall_pressure_inner(ctx: &Context, scheme: &Scheme, group: &str) -> Result<Gr
     let mut steps = 0.0;
     let p_scale = RHO * GRAVITY * h;
     let t_end = t_final / t_scale + 0.01;
-    step_until(&mut sim, |_| [0.0; 3], t_end, "the dam break stopped", |sim| {
-        steps += n_all;
-        if let Some(c) = sim.loads().centred() {
-            if last_step != Some(c.step) {
-                last_step = Some(c.step);
-                t_series.push(c.time * t_scale);
-                let p = sim.loads().centred_pressure();
-                for (k, w) in weights.iter().enumerate() {
-                    p_series[k].push(w.iter().map(|&(i, wi)| wi * p[i]).sum::<f64>() / p_scale);
+    step_until(
+        &mut sim,
+        |_| [0.0; 3],
+        t_end,
+        "the dam break stopped",
+        |sim| {
+            steps += n_all;
+            if let Some(c) = sim.loads().centred() {
+                if last_step != Some(c.step) {
+                    last_step = Some(c.step);
+                    t_series.push(c.time * t_scale);
+                    let p = sim.loads().centred_pressure();
+                    for (k, w) in weights.iter().enumerate() {
+                        p_series[k].push(w.iter().map(|&(i, wi)| wi * p[i]).sum::<f64>() / p_scale);
+                    }
                 }
             }
-        }
-        Ok(())
-    })?;
+            Ok(())
+        },
+    )?;
     let mut g = GroupResult {
         particle_steps: steps,
         ..GroupResult::default()
@@ -711,15 +723,21 @@ fn viscous_current_inner(ctx: &Context, group: &str) -> Result<GroupResult> {
         let (mut ts, mut xs) = (Vec::new(), Vec::new());
         let mut next = 0.05;
         let particle_steps = &mut g.particle_steps;
-        step_until(&mut sim, |_| [0.0; 3], t_stop, "the viscous current stopped", |sim| {
-            *particle_steps += n_all;
-            if sim.time() >= next {
-                next += 0.05;
-                ts.push(sim.time());
-                xs.push(front_position(sim, 0.5 * dx, 0.25 * a) / a);
-            }
-            Ok(())
-        })?;
+        step_until(
+            &mut sim,
+            |_| [0.0; 3],
+            t_stop,
+            "the viscous current stopped",
+            |sim| {
+                *particle_steps += n_all;
+                if sim.time() >= next {
+                    next += 0.05;
+                    ts.push(sim.time());
+                    xs.push(front_position(sim, 0.5 * dx, 0.25 * a) / a);
+                }
+                Ok(())
+            },
+        )?;
         g.checks.push(stayed_inside(group, &sim));
         if no_slip {
             let errors: Vec<f64> = ts

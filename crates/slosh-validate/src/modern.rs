@@ -3,8 +3,6 @@
 //! suite) the 50 s run of the §3.3 case. The dam-break checks of the modern scheme live in
 //! `dambreak.rs` beside the paper scheme's.
 
-use crate::run::{step_until, step_until_around};
-use slosh_run::StepPhase;
 use super::run::{
     fitted_slope, max_in_window, rect_sim_with, rms, Context, Runner, Scheme, SineExcitation,
     GRAVITY, RHO,
@@ -15,9 +13,11 @@ use super::{
     failed_run, fmt_num, info_row, open_if_failed, ratio_band_check, relative_check, stayed_inside,
     Check, GroupResult, Verdict,
 };
+use crate::run::{step_until, step_until_around};
 use slosh_core::{Simulation, SphParams, PART_ROOF};
 use slosh_geometry::{InitialSurface, RectTank2};
 use slosh_io::{PlotSpec, Series};
+use slosh_run::StepPhase;
 use slosh_theory::damping::{free_slip_viscous_mode, rectangular_viscous_decay};
 use slosh_theory::linear::RectangularTank;
 use slosh_theory::modal::sine_response;
@@ -616,27 +616,33 @@ fn roof_run(
     let mut raw_by_step: Vec<(f64, f64)> = Vec::new();
     let mut last = None;
     let ground = |t| [excitation.ground_accel(t), 0.0, 0.0];
-    step_until(&mut sim, ground, SETTLE + excitation_time, "stopped", |sim| {
-        particle_steps += n_all;
-        let l = sim.loads();
-        let p_raw = on_roof
-            .iter()
-            .map(|&k| l.instantaneous_pressure()[k])
-            .fold(0.0f64, f64::max);
-        raw_by_step.push((sim.time() - SETTLE, p_raw));
-        if let Some(c) = l.centred() {
-            if last != Some(c.step) {
-                last = Some(c.step);
-                let p = on_roof
-                    .iter()
-                    .map(|&k| l.centred_pressure()[k])
-                    .fold(0.0f64, f64::max);
-                ts.push(c.time - SETTLE);
-                windowed.push(p);
+    step_until(
+        &mut sim,
+        ground,
+        SETTLE + excitation_time,
+        "stopped",
+        |sim| {
+            particle_steps += n_all;
+            let l = sim.loads();
+            let p_raw = on_roof
+                .iter()
+                .map(|&k| l.instantaneous_pressure()[k])
+                .fold(0.0f64, f64::max);
+            raw_by_step.push((sim.time() - SETTLE, p_raw));
+            if let Some(c) = l.centred() {
+                if last != Some(c.step) {
+                    last = Some(c.step);
+                    let p = on_roof
+                        .iter()
+                        .map(|&k| l.centred_pressure()[k])
+                        .fold(0.0f64, f64::max);
+                    ts.push(c.time - SETTLE);
+                    windowed.push(p);
+                }
             }
-        }
-        Ok(())
-    })?;
+            Ok(())
+        },
+    )?;
     // The raw series on the windowed series' times (the window lags N steps).
     let n = ts.len().min(raw_by_step.len());
     let raw: Vec<f64> = raw_by_step[..n].iter().map(|r| r.1).collect();

@@ -4,13 +4,13 @@
 //! 24 m cylinder against potential theory, with the numerical damping beside EN 1998-4's
 //! 0.5 %; a forced real-scale cylinder against the linear modal solution and Housner.
 
-use crate::run::step_until;
 use super::run::{fitted_slope, interpolate, rms, Context, Runner, SineExcitation, GRAVITY, RHO};
 use super::three_d::{cylinder_forced_inner, free_run, ForcedCylinder};
 use super::{
     failed_run, fmt_num, info_row, open_if_failed, relative_check, stayed_inside, Check,
     GroupResult, Verdict,
 };
+use crate::run::step_until;
 use anyhow::Result;
 use slosh_core::{NeighbourBackend, Simulation, SphParams, WallPressureMethod, PART_WALL};
 use slosh_geometry::{CylinderTank, InitialSurface, RectTank2, Roof};
@@ -259,18 +259,24 @@ pub fn hydrostatics_at_depth(ctx: &Context) -> GroupResult {
             let gauges = [0.25 * width, 0.5 * width, 0.75 * width];
             let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
             let (mut level_sum, mut level_n, mut steps) = (0.0, 0.0f64, 0.0);
-            step_until(&mut sim, |_| [0.0; 3], settle, "stopped", |sim| {
-                steps += n_all;
-                if sim.time() >= settle - 1.0 {
-                    for x in gauges {
-                        if let Some(z) = sim.surface_level_at(&[x]) {
-                            level_sum += z;
-                            level_n += 1.0;
+            step_until(
+                &mut sim,
+                |_| [0.0; 3],
+                settle,
+                "stopped",
+                |sim| {
+                    steps += n_all;
+                    if sim.time() >= settle - 1.0 {
+                        for x in gauges {
+                            if let Some(z) = sim.surface_level_at(&[x]) {
+                                level_sum += z;
+                                level_n += 1.0;
+                            }
                         }
                     }
-                }
-                Ok(())
-            })?;
+                    Ok(())
+                },
+            )?;
             let level = level_sum / level_n.max(1.0);
             let f = sim.fluid();
             let reference: Vec<f64> = f

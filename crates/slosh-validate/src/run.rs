@@ -3,10 +3,10 @@
 //! numerical helpers (interpolation, zero crossings, least squares).
 
 use anyhow::{anyhow, Result};
-use slosh_run::{EachStep, HookError, StepPhase, Until};
 use slosh_core::loads::base_shear_x;
 use slosh_core::{Simulation, SphParams, PART_ROOF};
 use slosh_geometry::RectTank2;
+use slosh_run::{EachStep, HookError, StepPhase, Until};
 use std::path::PathBuf;
 
 /// Gravity of every case (m/s²), the paper's value.
@@ -199,11 +199,7 @@ impl Runner {
     }
 
     /// Steps until simulation time `t_end` (s), calling `hook` after every step.
-    pub fn run_until<F: FnMut(&Simulation<2>)>(
-        &mut self,
-        t_end: f64,
-        mut hook: F,
-    ) -> Result<()> {
+    pub fn run_until<F: FnMut(&Simulation<2>)>(&mut self, t_end: f64, mut hook: F) -> Result<()> {
         let n_particles =
             (self.sim.fluid().position.len() + self.sim.walls().position.len()) as f64;
         let Runner {

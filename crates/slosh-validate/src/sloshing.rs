@@ -759,10 +759,7 @@ pub fn free_period(
     let project = |sim: &Simulation<2>, ts: &mut Vec<f64>, beta: &mut Vec<f64>| {
         let mut sum = 0.0;
         for &x in &gauges {
-            let eta = sim
-                .surface_level_at(&[x])
-                .map(|z| z - still)
-                .unwrap_or(0.0);
+            let eta = sim.surface_level_at(&[x]).map(|z| z - still).unwrap_or(0.0);
             sum += eta * (k1 * x).cos();
         }
         ts.push(sim.time());

@@ -3,13 +3,13 @@
 //! base shear of a cylinder against the linear (Veletsos-type rigid tank) modal solution with
 //! Housner's approximation beside it; a thin 3D box against the 2D code.
 
-use crate::run::step_until;
 use super::run::{fitted_slope, rms, zero_crossings, Context, GRAVITY, RHO};
 use super::sloshing::period_from_crossings;
 use super::{
     failed_run, fmt_num, info_row, plot_path, relative_check, stayed_inside, Check, GroupResult,
     PlotRef, Verdict,
 };
+use crate::run::step_until;
 use anyhow::Result;
 use slosh_core::loads::base_shear_x;
 use slosh_core::{Simulation, SphParams, PART_ROOF};
@@ -153,15 +153,21 @@ pub(crate) fn free_run<const D: usize>(
     };
     let mut steps = 0.0;
     let mut next = sample;
-    step_until(sim, |_| [0.0; 3], t_end, "stopped", |sim| {
-        steps += n_all;
-        if sim.time() >= next {
-            next += sample;
-            h.t.push(sim.time());
-            h.x.push(com_x(sim));
-        }
-        Ok(())
-    })?;
+    step_until(
+        sim,
+        |_| [0.0; 3],
+        t_end,
+        "stopped",
+        |sim| {
+            steps += n_all;
+            if sim.time() >= next {
+                next += sample;
+                h.t.push(sim.time());
+                h.x.push(com_x(sim));
+            }
+            Ok(())
+        },
+    )?;
     Ok((h, steps))
 }
 
