@@ -431,7 +431,7 @@ fn run_built<const D: usize>(
         progress: Progress::start(opts.progress, &case.name, duration),
         started: Instant::now(),
     };
-    let result: RunResult<D> = slosh_run::run_case(
+    let mut result: RunResult<D> = slosh_run::run_case(
         &mut sim,
         &plan,
         &mut case.excitation,
@@ -439,7 +439,6 @@ fn run_built<const D: usize>(
         &mut crate::interrupt::received,
     )
     .map_err(|e| anyhow::anyhow!(e))?;
-    let mut result = result;
     let failure = failure_of(std::mem::replace(&mut result.status, RunStatus::Finished));
     let (stats, peaks, wall_time) = (result.stats, result.peaks, result.wall_time_s);
     let measured_compression = result.hydrostatic_compression;
@@ -510,7 +509,7 @@ fn run_built<const D: usize>(
             .map(|p| (p.name.clone(), p.value.clone()))
             .collect(),
         numerics: sim.params().clone(),
-        theory: theory_numbers(&tank, sim.params().gravity),
+        theory,
         tank,
         tank_requested: case.tank.clone(),
         lattice_notes: fit.notes.clone(),
