@@ -7,6 +7,17 @@
 //! switchable one by one: continuity density with δ-SPH diffusion, Adami walls,
 //! the Wendland C2 kernel, symplectic time integration and particle shifting. No file,
 //! printing or scripting here: the crate takes particles and parameters and returns numbers.
+/// Evaluates `$body` with `$s` bound to the search of whichever backend `$search` holds (the
+/// body is compiled once per backend).
+macro_rules! with_search {
+    ($search:expr, $s:ident => $body:expr) => {
+        match $search {
+            Search::Grid($s) => $body,
+            Search::KdTree($s) => $body,
+        }
+    };
+}
+
 pub mod error;
 pub mod gauge;
 pub mod kernel;
@@ -15,6 +26,9 @@ pub mod neighbours;
 pub mod params;
 pub mod setup;
 pub mod sim;
+mod stages;
+mod sweep;
+mod terms;
 pub mod sound_speed;
 
 pub use error::SimError;

@@ -1,0 +1,268 @@
+//! The momentum, continuity, density-diffusion and shifting terms of one pair, evaluated together.
+
+use crate::sim::*;
+use crate::terms::*;
+
+/// What the pair terms of the modern force pass read: one copy for both neighbour backends,
+/// its methods always inlined into their sweeps.
+pub(crate) struct ModernPairTerms<'a, const D: usize> {
+    /// The paper sweep's constants and fluid and wall arrays (pressure and viscous terms).
+    pub(crate) base: ForceSweep<'a, D>,
+    /// Walls in the artificial viscosity and the paper's viscous term: dynamic walls only
+    /// (wall at rest, as the paper). Adami walls take neither: free slip has no wall stress,
+    /// no-slip the physical viscous stress of the mirrored velocity (`no_slip_viscous`).
+    pub(crate) wall_av: bool,
+    pub(crate) wall_viscous: bool,
+    pub(crate) no_slip_viscous: bool,
+    pub(crate) continuity: bool,
+    /// 0: none, 1: Molteni–Colagrossi, 2: Fourtakas.
+    pub(crate) diffusion: u8,
+    /// ψ_ij·∇_i W_ij = 2 (ρ_j − ρ_i) x_ji·x_ij F/r² = −2 (ρ_j − ρ_i) F, F = (dW/dr)/r: the
+    /// factor −2 δ h c0 of (ρ_j − ρ_i) F.
+    pub(crate) diff_coeff: f64,
+    pub(crate) shifting: bool,
+    /// Hydrostatic density of Fourtakas' diffusion (kg/m³).
+    pub(crate) rho_h: &'a [f64],
+    /// Wall velocity seen by the fluid with no-slip Adami walls (m/s).
+    pub(crate) wall_vel: &'a [Vector<D>],
+}
+
+/// Fluid particle i of a row of modern pairs.
+pub(crate) struct ModernOwner<const D: usize> {
+    pub(crate) f: ForceOwner<D>,
+    /// m/ρ_i (m³, 2D: m²).
+    pub(crate) volume: f64,
+    /// The density the diffusion term differences: ρ_i, or ρ_i − ρ_H,i (Fourtakas).
+    pub(crate) rho_dyn: f64,
+}
+
+/// One fluid pair's shares (i within the support of j).
+pub(crate) struct FluidPairTerm<const D: usize> {
+    /// Acceleration of i (Eq. 8); j gets its negative.
+    pub(crate) acc: Vector<D>,
+    /// dρ_i/dt and dρ_j/dt: continuity m (v_i − v_j)·∇_i W_ij plus the diffusion terms.
+    pub(crate) drho_i: f64,
+    pub(crate) drho_j: f64,
+    /// ∇_i W_ij and W_ij (the latter only with shifting) and m/ρ_j, for the shifting sums.
+    pub(crate) grad_w: Vector<D>,
+    pub(crate) w: f64,
+    pub(crate) volume_j: f64,
+}
+
+/// One fluid–wall pair's shares of i's sums: acceleration, dρ/dt, and the shifting's ∇C and
+/// kernel sum.
+pub(crate) struct WallPairTerm<const D: usize> {
+    pub(crate) acc: Vector<D>,
+    pub(crate) drho: f64,
+    pub(crate) grad_c: Vector<D>,
+    pub(crate) kernel_sum: f64,
+}
+
+impl<'a, const D: usize> ModernPairTerms<'a, D> {
+    /// The terms over `fluid` (its acceleration and density rate are not read), `walls` and
+    /// the modern state's hydrostatic density and wall velocity.
+    pub(crate) fn new(
+        c: &PassConstants,
+        fluid: &'a Fluid<D>,
+        walls: &'a Walls<D>,
+        st: &'a ModernState<D>,
+    ) -> Self {
+        let k = &st.k;
+        let base = ForceSweep::new(c, fluid, walls);
+        ModernPairTerms {
+            wall_av: base.av_on && !k.adami,
+            wall_viscous: base.viscous && !k.adami,
+            no_slip_viscous: base.viscous && k.adami && k.no_slip,
+            continuity: k.continuity,
+            diffusion: k.diffusion,
+            diff_coeff: -2.0 * k.diffusion_coeff,
+            shifting: k.shifting.is_some(),
+            rho_h: &st.hydro_density,
+            wall_vel: &st.wall_velocity,
+            base,
+        }
+    }
+
+    /// The density of particle i the diffusion term differences.
+    #[inline(always)]
+    pub(crate) fn rho_dyn(&self, i: usize) -> f64 {
+        if self.diffusion == 2 {
+            self.base.rho[i] - self.rho_h[i]
+        } else {
+            self.base.rho[i]
+        }
+    }
+
+    #[inline(always)]
+    pub(crate) fn owner(&self, i: usize) -> ModernOwner<D> {
+        let f = self.base.owner(i);
+        ModernOwner {
+            volume: self.base.c.mass * f.inv_rho,
+            rho_dyn: self.rho_dyn(i),
+            f,
+        }
+    }
+
+    /// The pair of fluid particles i (`o`) and j at squared distance r2 within the support:
+    /// Eq. 8 (pressure, artificial viscosity, viscous stress), the continuity equation
+    /// dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij (Monaghan 1992) with the δ-SPH diffusion term
+    /// (Molteni & Colagrossi 2009; Fourtakas et al. 2019), and what the shifting sums need.
+    /// `r` is the distance and `factors` the pair's (∇W factor, 1/s, 1/ρ̄) of
+    /// [`ForceSweep::pair_factors`].
+    #[inline(always)]
+    pub(crate) fn fluid_pair(
+        &self,
+        o: &ModernOwner<D>,
+        j: usize,
+        xij: Vector<D>,
+        r: f64,
+        (f, inv_s, inv_rho_mean): (f64, f64, f64),
+    ) -> FluidPairTerm<D> {
+        let c = &self.base.c;
+        let m = c.mass;
+        let grad_w = xij * f;
+        let inv_rho_j = self.base.inv_rho[j];
+        let volume_j = m * inv_rho_j;
+        let inv_rho_ij = o.f.inv_rho * inv_rho_j;
+        let vij = o.f.v - self.base.vel[j];
+        // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
+        let mut scalar = -(o.f.p + self.base.p[j]) * inv_rho_ij;
+        if self.base.av_on {
+            scalar -= self
+                .base
+                .artificial_viscosity(vij, xij, inv_s, inv_rho_mean);
+        }
+        let mut acc = grad_w * (m * scalar);
+        if self.base.viscous {
+            // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W (Eq. 8, 3).
+            acc += (o.f.strain + self.base.strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
+        }
+        let (mut drho_i, mut drho_j) = (0.0, 0.0);
+        if self.continuity {
+            let d = m * vij.dot(&grad_w);
+            (drho_i, drho_j) = (d, d);
+            if self.diffusion != 0 {
+                let psi = self.diff_coeff * (self.rho_dyn(j) - o.rho_dyn) * f;
+                drho_i += psi * volume_j;
+                drho_j -= psi * o.volume;
+            }
+        }
+        let w = if self.shifting {
+            c.kernel.value(r)
+        } else {
+            0.0
+        };
+        FluidPairTerm {
+            acc,
+            drho_i,
+            drho_j,
+            grad_w,
+            w,
+            volume_j,
+        }
+    }
+
+    /// [`Self::fluid_pair`] with the pair factors computed here (the paths without a batch).
+    #[inline(always)]
+    pub(crate) fn fluid_pair_at(
+        &self,
+        o: &ModernOwner<D>,
+        j: usize,
+        xij: Vector<D>,
+        r2: f64,
+    ) -> FluidPairTerm<D> {
+        let factors = self.base.pair_factors(r2, o.f.rho + self.base.rho[j]);
+        self.fluid_pair(o, j, xij, r2.sqrt().max(1e-150), factors)
+    }
+
+    /// The pair of fluid particle `o` and wall particle `w` if within the support: Eq. 8 with
+    /// the wall's pressure (and velocity when mirrored), the continuity term of the wall's
+    /// velocity (zero: the tank frame), and the shifting sums.
+    #[inline(always)]
+    pub(crate) fn wall_term(&self, o: &ForceOwner<D>, w: usize) -> Option<WallPairTerm<D>> {
+        let c = &self.base.c;
+        let m = c.mass;
+        let xiw = o.x - self.base.wall_pos[w];
+        let r2 = xiw.norm_squared();
+        if r2 >= c.support_sq {
+            return None;
+        }
+        let (f, inv_s, inv_rho_mean) = self.base.pair_factors(r2, o.rho + self.base.wall_rho[w]);
+        let grad_w = xiw * f;
+        let inv_rho_iw = o.inv_rho * self.base.wall_inv_rho[w];
+        let mut scalar = -(o.p + self.base.wall_p[w]) * inv_rho_iw;
+        if self.wall_av {
+            scalar -= self
+                .base
+                .artificial_viscosity(o.v, xiw, inv_s, inv_rho_mean);
+        }
+        let mut acc = grad_w * (m * scalar);
+        if self.wall_viscous {
+            acc += o.strain * grad_w * (m * c.viscosity * inv_rho_iw);
+        }
+        if self.no_slip_viscous {
+            // No-slip Adami wall: the laminar viscous force of Morris et al. (1997),
+            // m (μ_i + μ_w) (x_iw·∇_i W) v_iw / (ρ_i ρ_w (r² + 0.01 h²)), against the mirrored
+            // wall velocity (Adami et al. 2012 Eq. 22; x_iw·∇_i W = r² F).
+            let v_iw = o.v - self.wall_vel[w];
+            acc += v_iw * (m * 2.0 * c.viscosity * inv_rho_iw * r2 * f * inv_s);
+        }
+        let drho = if self.continuity {
+            m * o.v.dot(&grad_w)
+        } else {
+            0.0
+        };
+        let (grad_c, kernel_sum) = if self.shifting {
+            let volume_w = m * self.base.wall_inv_rho[w];
+            (grad_w * volume_w, volume_w * c.kernel.value(r2.sqrt()))
+        } else {
+            (Vector::<D>::zeros(), 0.0)
+        };
+        Some(WallPairTerm {
+            acc,
+            drho,
+            grad_c,
+            kernel_sum,
+        })
+    }
+}
+
+/// Owner i's running sums over its pairs: acceleration, dρ/dt, and the shifting's ∇C and
+/// kernel sum.
+pub(crate) struct OwnerSums<const D: usize> {
+    pub(crate) acc: Vector<D>,
+    pub(crate) drho: f64,
+    pub(crate) grad_c: Vector<D>,
+    pub(crate) ksum: f64,
+}
+
+impl<const D: usize> OwnerSums<D> {
+    pub(crate) fn new(ksum: f64) -> Self {
+        OwnerSums {
+            acc: Vector::<D>::zeros(),
+            drho: 0.0,
+            grad_c: Vector::<D>::zeros(),
+            ksum,
+        }
+    }
+
+    /// i's share of a fluid pair.
+    #[inline(always)]
+    pub(crate) fn add_fluid(&mut self, pair: &FluidPairTerm<D>, shifting: bool) {
+        self.acc += pair.acc;
+        self.drho += pair.drho_i;
+        if shifting {
+            self.grad_c += pair.grad_w * pair.volume_j;
+            self.ksum += pair.volume_j * pair.w;
+        }
+    }
+
+    /// A fluid–wall pair.
+    #[inline(always)]
+    pub(crate) fn add_wall(&mut self, wall: &WallPairTerm<D>) {
+        self.acc += wall.acc;
+        self.drho += wall.drho;
+        self.grad_c += wall.grad_c;
+        self.ksum += wall.kernel_sum;
+    }
+}
