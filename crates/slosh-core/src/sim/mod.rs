@@ -1,26 +1,6 @@
-//! The simulation state and the time step, written once for 2D and 3D.
-//!
-//! One step (paper §2):
-//! 1. sort the fluid arrays by cell and re-index them (k-d tree backend: re-index every step,
-//!    re-sort every few steps);
-//! 2. density pass: summation density (Eq. 19) of fluid and wall particles, the kernel sum of
-//!    the free-surface test (Eq. 20) and the strain rate V of Eq. 5; then the EOS (Eq. 18);
-//! 3. force pass: the symmetric momentum equation with artificial viscosity (Eq. 8–16).
-//!
-//!    With the cell grid both passes evaluate each fluid pair once and add it to both
-//!    particles (the pair terms are symmetric or antisymmetric in i and j): the sorted fluid
-//!    is cut into blocks of whole cells at least one stencil reach long, each particle pairs
-//!    with the particles of the forward half of its stencil, and an odd block runs once the
-//!    even blocks on both sides of it are done, so no two threads write the same particle
-//!    and each particle's sums are added in an order that does not depend on the threads
-//!    (`colour_sweep`). The density pass keeps the pairs it found (forward fluid neighbours
-//!    and all wall neighbours) for the force pass;
-//! 4. time step from the CFL bounds (or the fixed dt), leap-frog update (Eq. 21–22);
-//! 5. wall pressures for loads (§2.6) and their time window.
-//!
-//! The switchable parts of the modern scheme (continuity density with δ-SPH, Adami walls,
-//! symplectic integration, shifting) run in their own step, `modern.rs`, entered
-//! only when one of them is switched on.
+//! The simulation: its state, its construction from a tank's particles, and what a caller
+//! reads from it. The time step is in `step.rs`, made of the stages of `crate::stages`;
+//! the pair sweeps are driven by `crate::sweep`, the pair terms are in `crate::terms`.
 
 use crate::error::SimError;
 use crate::kernel::Kernel;
@@ -44,7 +24,7 @@ pub type Tensor<const D: usize> = SMatrix<f64, D, D>;
 
 mod sorting;
 mod state;
-mod modern_step;
+mod step;
 pub use state::*;
 
 /// Neighbour search chosen at run time; each pass is monomorphised for both.
@@ -150,15 +130,14 @@ pub struct Simulation<const D: usize> {
     pub(crate) order: Vec<u32>,
     pub(crate) next_density: Vec<f64>,
     pub(crate) next_wall_density: Vec<f64>,
-    /// Buffers and flags of the modern step; `None` runs the paper's step.
-    pub(crate) modern: Option<ModernState<D>>,
+    /// Buffers of the stages beyond the paper's (empty when unused).
+    pub(crate) buffers: StageBuffers<D>,
+    /// The stages of the step, chosen once.
+    pub(crate) plan: StepPlan,
     /// `still_level()`, computed once (m).
     pub(crate) still_level_cached: f64,
     /// The sound speed and stiffness chosen for this tank, and why.
     pub(crate) sound_choice: SoundSpeedChoice,
-    /// The paper step with the cell grid keeps the fluid sorted by cell every step and sweeps
-    /// each pair once ([`density_pass_sorted`], [`force_pass_sorted`]).
-    pub(crate) sorted_every_step: bool,
     /// Block bounds of the colour sweeps ([`CellGrid::colour_blocks`]).
     pub(crate) blocks: Vec<u32>,
     /// Fluid → wall density sums of the sorted density pass.
@@ -343,17 +322,8 @@ impl<const D: usize> Simulation<D> {
         let sort_grid = CellGrid::new(domain_min, domain_max, kernel.support(), &[]);
         let mut loads = LoadEvaluator::new(&walls, setup.part_names.len(), params.smoothing_steps);
         loads.set_roof_part(&setup.part_names);
-        let modern = if params.uses_modern_step() {
-            Some(ModernState::new(
-                &params,
-                h,
-                sound_speed,
-                n,
-                walls.position.len(),
-            ))
-        } else {
-            None
-        };
+        let plan = StepPlan::choose(&params, matches!(search, Search::Grid(_)));
+        let buffers = StageBuffers::new(&params, h, sound_speed, n, walls.position.len());
         let mut sim = Simulation {
             constants,
             spacing: dx,
@@ -392,9 +362,8 @@ impl<const D: usize> Simulation<D> {
             order: vec![0; n],
             next_density: vec![0.0; n],
             next_wall_density: vec![0.0; n_wall],
-            sorted_every_step: modern.is_none()
-                && params.neighbour_backend == NeighbourBackend::CellGrid,
-            modern,
+            buffers,
+            plan,
             still_level_cached: 0.0,
             sound_choice,
             blocks: Vec::new(),
@@ -407,74 +376,25 @@ impl<const D: usize> Simulation<D> {
             let cells: usize = grid.dims().iter().product();
             sim.blocks.reserve(cells / grid.stencil_reach().max(1) + 2);
         }
-        if sim.sorted_every_step {
-            sim.wall_scatter = WallScatter::new(n_wall);
-            sim.fluid.neighbours.start = vec![0; n];
-            sim.scratch_vec2 = vec![Vector::<D>::zeros(); n];
-            sim.sort_and_index();
-        } else if sim.modern.is_some() && matches!(sim.search, Search::Grid(_)) {
-            // The sorted strain sweep packs its lists by block (see `density_pass_sorted`).
-            sim.fluid.neighbours.start = vec![0; n];
-            sim.sort_all_and_index();
-        } else {
-            sim.sort_by_cell();
-            sim.rebuild_search();
-        }
-        if sim.modern.is_some() {
-            sim.modern_init();
-        } else {
-            sim.compute_density_and_pressure();
-        }
-        Ok(sim)
-    }
-
-    /// Advances one time step with the ground acceleration `ground_accel` (m/s², tank frame:
-    /// the fluid feels −ground_accel as a body force besides gravity).
-    pub fn step(&mut self, ground_accel: Vector<D>) -> Result<(), SimError> {
-        if !ground_accel.iter().all(|a| a.is_finite()) {
-            return Err(SimError::BadExcitation {
-                time: self.time,
-                value: format!("{:?}", ground_accel.as_slice()),
-            });
-        }
-        if self.modern.is_some() {
-            return self.step_modern(ground_accel);
-        }
-        let clock = std::time::Instant::now();
-        let reorder = self.params.reorder_interval;
-        if !self.sorted_every_step
-            && reorder > 0
-            && self.step > 0
-            && self.step.is_multiple_of(reorder as u64)
-        {
-            self.sort_by_cell();
-        }
-        if self.step > 0 {
-            if self.sorted_every_step {
-                self.sort_and_index();
-            } else {
-                self.rebuild_search();
+        match plan.sorting {
+            Sorting::GatherEveryStep => {
+                sim.wall_scatter = WallScatter::new(n_wall);
+                // The sorted sweeps pack their lists by block (see `density_pass_sorted`).
+                sim.fluid.neighbours.start = vec![0; n];
+                sim.scratch_vec2 = vec![Vector::<D>::zeros(); n];
+                sim.sort_and_index();
             }
-            let t1 = std::time::Instant::now();
-            self.phase_times.neighbour_search += (t1 - clock).as_secs_f64();
-            self.compute_density_and_pressure();
-            self.phase_times.density += t1.elapsed().as_secs_f64();
+            Sorting::AllArraysEveryStep => {
+                sim.fluid.neighbours.start = vec![0; n];
+                sim.sort_all_and_index();
+            }
+            Sorting::Periodic => {
+                sim.sort_by_cell();
+                sim.rebuild_search();
+            }
         }
-        let mut body_force = -ground_accel;
-        body_force[D - 1] -= self.params.gravity;
-        let t2 = std::time::Instant::now();
-        self.compute_forces(body_force);
-        let t3 = std::time::Instant::now();
-        self.phase_times.forces += (t3 - t2).as_secs_f64();
-        self.record_loads(body_force);
-        let t4 = std::time::Instant::now();
-        self.phase_times.loads += (t4 - t3).as_secs_f64();
-
-        let dt = self.time_step();
-
-        self.integrate(dt, self.dt_previous)?;
-        self.finish_step(dt, t4);
-        Ok(())
+        sim.initial_state();
+        Ok(sim)
     }
 
     /// Ends a step of `dt` (s), both schemes: the time, the step count, the step lengths the
@@ -529,11 +449,6 @@ impl<const D: usize> Simulation<D> {
         self.stats.dt_min = self.stats.dt_min.min(dt);
         self.stats.dt_max = self.stats.dt_max.max(dt);
         dt
-    }
-
-    /// Wall pressures for loads (§2.6) of the state the forces were computed on.
-    pub(crate) fn record_loads(&mut self, body_force: Vector<D>) {
-        self.record_loads_at(body_force, self.time);
     }
 
     /// Wall pressures for loads of the state the forces were computed on, labelled `time`.
@@ -600,6 +515,12 @@ impl<const D: usize> Simulation<D> {
     }
 
     // ----- accessors -----
+
+    /// The stages of the step this run takes (density model, wall model, force pass,
+    /// integrator, shifting, and how the pair sweeps visit the pairs), in one line.
+    pub fn step_description(&self) -> String {
+        self.plan.describe()
+    }
 
     /// Simulated time (s).
     pub fn time(&self) -> f64 {

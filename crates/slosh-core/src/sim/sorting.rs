@@ -124,11 +124,8 @@ impl<const D: usize> Simulation<D> {
         permute_par(&mut f.pressure, order, sf);
         permute_par(&mut f.kernel_sum, order, sf);
         permute_par(&mut f.id, order, su);
-        if let Some(m) = &mut self.modern {
-            m.lists_fresh = false;
-            if !m.density_start.is_empty() {
-                permute_par(&mut m.density_start, order, sf);
-            }
+        if !self.buffers.density_start.is_empty() {
+            permute_par(&mut self.buffers.density_start, order, sf);
         }
         grid.mark_sorted();
         let target = (f.position.len() / 32).max(512);

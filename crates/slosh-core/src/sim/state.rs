@@ -173,7 +173,7 @@ pub(crate) fn merge_status<const D: usize>(
 
 /// Flags and constants of the modern passes, fixed for a run.
 #[derive(Clone, Copy)]
-pub(crate) struct ModernConstants {
+pub(crate) struct CoupledConstants {
     pub(crate) continuity: bool,
     /// 0: none, 1: Molteni–Colagrossi, 2: Fourtakas.
     pub(crate) diffusion: u8,
@@ -187,9 +187,9 @@ pub(crate) struct ModernConstants {
     pub(crate) inv_gamma: f64,
 }
 
-/// Per-run buffers of the modern step, allocated once in `Simulation::new`.
-pub(crate) struct ModernState<const D: usize> {
-    pub(crate) k: ModernConstants,
+/// Per-run buffers of the stages beyond the paper's, allocated once in `Simulation::new`.
+pub(crate) struct StageBuffers<const D: usize> {
+    pub(crate) k: CoupledConstants,
     /// ρ^n, the density at the start of a symplectic step (kg/m³).
     pub(crate) density_start: Vec<f64>,
     /// Hydrostatic density ρ_H of Fourtakas' diffusion (kg/m³).
@@ -200,12 +200,9 @@ pub(crate) struct ModernState<const D: usize> {
     /// Wall velocity seen by the fluid with no-slip Adami walls (m/s).
     pub(crate) wall_velocity: Vec<Vector<D>>,
     pub(crate) wall_pressure_next: Vec<f64>,
-    /// The fluid's neighbour lists hold the pairs of the current positions (filled by the
-    /// sorted strain sweep, void after each re-sort).
-    pub(crate) lists_fresh: bool,
 }
 
-impl<const D: usize> ModernState<D> {
+impl<const D: usize> StageBuffers<D> {
     pub(crate) fn new(params: &SphParams, h: f64, c0: f64, n: usize, n_wall: usize) -> Self {
         let (diffusion, delta) = match params.density_diffusion {
             DensityDiffusion::None => (0, 0.0),
@@ -213,7 +210,7 @@ impl<const D: usize> ModernState<D> {
             DensityDiffusion::Fourtakas { delta } => (2, delta),
         };
         let continuity = params.density == DensityMethod::Continuity;
-        let k = ModernConstants {
+        let k = CoupledConstants {
             continuity,
             diffusion: if continuity && delta > 0.0 {
                 diffusion
@@ -228,7 +225,7 @@ impl<const D: usize> ModernState<D> {
             inv_gamma: 1.0 / params.eos_gamma,
         };
         let shift_len = if k.shifting.is_some() { n } else { 0 };
-        ModernState {
+        StageBuffers {
             k,
             density_start: vec![params.rest_density; if k.symplectic { n } else { 0 }],
             hydro_density: vec![params.rest_density; if k.diffusion == 2 { n } else { 0 }],
@@ -236,7 +233,6 @@ impl<const D: usize> ModernState<D> {
             shift_kernel_sum: vec![1.0; shift_len],
             wall_velocity: vec![Vector::<D>::zeros(); if k.no_slip { n_wall } else { 0 }],
             wall_pressure_next: vec![0.0; n_wall],
-            lists_fresh: false,
         }
     }
 }

@@ -6,26 +6,6 @@ use crate::sweep::*;
 use crate::terms::*;
 use rayon::prelude::*;
 
-impl<const D: usize> Simulation<D> {
-    pub(crate) fn compute_forces(&mut self, body_force: Vector<D>) {
-        let c = self.constants;
-        match &self.search {
-            Search::Grid(s) if self.sorted_every_step => force_pass_sorted(
-                s,
-                &self.blocks,
-                &c,
-                &mut self.fluid,
-                &self.walls,
-                body_force,
-            ),
-            search => {
-                with_search!(search, s => force_pass(s, &c, &mut self.fluid, &self.walls, body_force))
-            }
-        }
-    }
-
-}
-
 /// Force pass: Eq. 8–9 with the Newtonian stress σ = −p I + μ V (Eq. 3) and Monaghan's
 /// artificial viscosity (Eq. 10–16), plus the body force.
 pub(crate) fn force_pass<const D: usize, S: NeighbourSearch<D>>(
@@ -179,7 +159,7 @@ pub(crate) struct ForceOutputs<const D: usize> {
 }
 
 impl<const D: usize> ForceOutputs<D> {
-    pub(crate) fn take(fluid: &mut Fluid<D>, st: &mut ModernState<D>) -> Self {
+    pub(crate) fn take(fluid: &mut Fluid<D>, st: &mut StageBuffers<D>) -> Self {
         ForceOutputs {
             acceleration: std::mem::take(&mut fluid.acceleration),
             density_rate: std::mem::take(&mut fluid.density_rate),
@@ -188,7 +168,7 @@ impl<const D: usize> ForceOutputs<D> {
         }
     }
 
-    pub(crate) fn restore(self, fluid: &mut Fluid<D>, st: &mut ModernState<D>) {
+    pub(crate) fn restore(self, fluid: &mut Fluid<D>, st: &mut StageBuffers<D>) {
         fluid.acceleration = self.acceleration;
         fluid.density_rate = self.density_rate;
         st.shift_gradient = self.shift_gradient;
@@ -206,7 +186,7 @@ pub(crate) fn modern_force_pass<const D: usize, S: NeighbourSearch<D>>(
     c: &PassConstants,
     fluid: &mut Fluid<D>,
     walls: &Walls<D>,
-    st: &mut ModernState<D>,
+    st: &mut StageBuffers<D>,
     body_force: Vector<D>,
 ) {
     let shifting = st.k.shifting.is_some();
@@ -307,7 +287,7 @@ pub(crate) fn modern_force_pass_sorted<const D: usize>(
     c: &PassConstants,
     fluid: &mut Fluid<D>,
     walls: &Walls<D>,
-    st: &mut ModernState<D>,
+    st: &mut StageBuffers<D>,
     body_force: Vector<D>,
     lists: bool,
 ) {

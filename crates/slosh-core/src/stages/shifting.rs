@@ -8,7 +8,7 @@ impl<const D: usize> Simulation<D> {
     /// Particle shifting (Lind et al. 2012; the |v| dt scaling of Skillen et al. 2013):
     /// δx_i = −A h |v_i| dt ∇C_i, capped at 0.1 dx, skipped near the free surface.
     pub(crate) fn apply_shifting(&mut self, dt: f64) {
-        let st = self.modern.as_ref().expect("modern state");
+        let st = &self.buffers;
         let Some(a) = st.k.shifting else { return };
         let scale = a * self.constants.kernel.h * dt;
         let cap = 0.1 * self.spacing;

@@ -3,35 +3,41 @@
 use crate::kernel::Kernel;
 use crate::neighbours::{CellGrid, NeighbourSearch};
 use crate::sim::*;
+use crate::stages::PairSweep;
 use crate::sweep::*;
 use crate::terms::*;
 use rayon::prelude::*;
 
 impl<const D: usize> Simulation<D> {
-    pub(crate) fn compute_density_and_pressure(&mut self) {
+    /// Summation density of the fluid (Eq. 19–20, with the strain rate of Eq. 4–5) and, with
+    /// `dynamic_walls`, of the wall particles, then the EOS (Eq. 18) of what was summed.
+    pub(crate) fn summation_density(&mut self, sweep: PairSweep, dynamic_walls: bool) {
         let c = self.constants;
-        match &self.search {
-            Search::Grid(s) if self.sorted_every_step => density_pass_sorted(
+        match (sweep, &self.search) {
+            (PairSweep::Half, Search::Grid(s)) => {
+                debug_assert!(dynamic_walls, "the half sweep sums the dynamic walls");
+                density_pass_sorted(
+                    s,
+                    &self.blocks,
+                    &c,
+                    &mut self.fluid,
+                    &mut self.walls,
+                    &mut self.next_density,
+                    &mut self.next_wall_density,
+                    &mut self.wall_scatter,
+                )
+            }
+            (_, search) => with_search!(search, s => density_pass(
                 s,
-                &self.blocks,
                 &c,
                 &mut self.fluid,
                 &mut self.walls,
                 &mut self.next_density,
                 &mut self.next_wall_density,
-                &mut self.wall_scatter,
-            ),
-            search => with_search!(search, s => density_pass(
-                s,
-                &c,
-                &mut self.fluid,
-                &mut self.walls,
-                &mut self.next_density,
-                &mut self.next_wall_density,
+                dynamic_walls,
             )),
         }
     }
-
 }
 
 /// Density pass (Eq. 19, 20, 18, 5) over fluid and wall particles.
@@ -42,6 +48,7 @@ pub(crate) fn density_pass<const D: usize, S: NeighbourSearch<D>>(
     walls: &mut Walls<D>,
     next_density: &mut Vec<f64>,
     next_wall_density: &mut [f64],
+    dynamic_walls: bool,
 ) {
     let kernel = c.kernel;
     let m = c.mass;
@@ -101,7 +108,12 @@ pub(crate) fn density_pass<const D: usize, S: NeighbourSearch<D>>(
                 },
             );
     }
-    wall_density_and_eos(search, c, fluid, walls, next_density, next_wall_density);
+    if dynamic_walls {
+        wall_density_and_eos(search, c, fluid, walls, next_density, next_wall_density);
+    } else {
+        // The wall stage that follows sets the walls' state.
+        fluid_eos(c, fluid, next_density, false);
+    }
 }
 
 /// The wall half of the density pass (Eq. 19 and 20 at wall particles), then the
@@ -173,29 +185,7 @@ pub(crate) fn eos_pass<const D: usize>(
     next_wall_density: &[f64],
     strain_from_gradient: bool,
 ) {
-    // Eq. 20: free-surface reset, then Eq. 18: pressure.
-    fluid
-        .density
-        .par_iter_mut()
-        .zip(fluid.inverse_density.par_iter_mut())
-        .zip(next_density.par_iter())
-        .zip(fluid.kernel_sum.par_iter())
-        .zip(fluid.pressure.par_iter_mut())
-        .zip(fluid.strain_rate.par_iter_mut())
-        .with_min_len(PAR_CHUNK)
-        .for_each(|(((((rho, inv), &rho_new), &ksum), p), g)| {
-            *rho = if ksum < c.free_surface_threshold {
-                c.rest_density
-            } else {
-                rho_new
-            };
-            *inv = 1.0 / *rho;
-            *p = c.pressure(*rho);
-            if strain_from_gradient {
-                // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
-                *g = strain_rate_of(g);
-            }
-        });
+    fluid_eos(c, fluid, next_density, strain_from_gradient);
     walls
         .density
         .par_iter_mut()
@@ -456,4 +446,38 @@ pub(crate) fn density_pass_sorted<const D: usize>(
         });
     }
     eos_pass(c, fluid, walls, next_density, next_wall_density, true);
+}
+
+/// The free-surface reset (Eq. 20) and the EOS (Eq. 18) of the fluid from its density sums;
+/// with `strain_from_gradient` the `strain_rate` holds the velocity gradient G and is turned
+/// into V here.
+fn fluid_eos<const D: usize>(
+    c: &PassConstants,
+    fluid: &mut Fluid<D>,
+    next_density: &[f64],
+    strain_from_gradient: bool,
+) {
+    // Eq. 20: free-surface reset, then Eq. 18: pressure.
+    fluid
+        .density
+        .par_iter_mut()
+        .zip(fluid.inverse_density.par_iter_mut())
+        .zip(next_density.par_iter())
+        .zip(fluid.kernel_sum.par_iter())
+        .zip(fluid.pressure.par_iter_mut())
+        .zip(fluid.strain_rate.par_iter_mut())
+        .with_min_len(PAR_CHUNK)
+        .for_each(|(((((rho, inv), &rho_new), &ksum), p), g)| {
+            *rho = if ksum < c.free_surface_threshold {
+                c.rest_density
+            } else {
+                rho_new
+            };
+            *inv = 1.0 / *rho;
+            *p = c.pressure(*rho);
+            if strain_from_gradient {
+                // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
+                *g = strain_rate_of(g);
+            }
+        });
 }

@@ -13,7 +13,7 @@ impl<const D: usize> Simulation<D> {
     /// Afterwards `velocity` holds the mid-step estimate and `velocity_half` holds v^n.
     pub(crate) fn symplectic_predictor(&mut self, dt: f64) {
         let half = 0.5 * dt;
-        let st = self.modern.as_mut().expect("modern state");
+        let st = &mut self.buffers;
         self.fluid
             .position
             .par_iter_mut()
@@ -50,7 +50,7 @@ impl<const D: usize> Simulation<D> {
     /// Domínguez et al. 2022 Eq. 20–22). `velocity_half` keeps the mid-step estimate.
     pub(crate) fn symplectic_corrector(&mut self, dt: f64) {
         let half = 0.5 * dt;
-        let st = self.modern.as_mut().expect("modern state");
+        let st = &mut self.buffers;
         std::mem::swap(&mut self.fluid.velocity, &mut self.fluid.velocity_half);
         self.fluid
             .position

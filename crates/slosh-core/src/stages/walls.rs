@@ -48,11 +48,11 @@ pub(crate) fn wall_strain_pass<const D: usize, S: NeighbourSearch<D>>(
 pub(crate) fn wall_pass<const D: usize, S: NeighbourSearch<D>>(
     search: &S,
     c: &PassConstants,
-    k: &ModernConstants,
+    k: &CoupledConstants,
     fluid: &mut Fluid<D>,
     walls: &mut Walls<D>,
     next_wall_density: &mut [f64],
-    st: &mut ModernState<D>,
+    st: &mut StageBuffers<D>,
     body_force: Vector<D>,
 ) {
     let kernel = c.kernel;

@@ -65,7 +65,7 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
         c: &PassConstants,
         fluid: &'a Fluid<D>,
         walls: &'a Walls<D>,
-        st: &'a ModernState<D>,
+        st: &'a StageBuffers<D>,
     ) -> Self {
         let k = &st.k;
         let base = ForceSweep::new(c, fluid, walls);
