@@ -193,15 +193,9 @@ impl<const D: usize> Simulation<D> {
 
     /// The force stage.
     fn force_stage(&mut self, body_force: Vector<D>) {
-        let c = self.constants;
-        match (self.plan.forces, &self.search) {
-            (ForceStage::Momentum { sweep: PairSweep::Half }, Search::Grid(s)) => {
-                force_pass_sorted(s, &self.blocks, &c, &mut self.fluid, &self.walls, body_force)
-            }
-            (ForceStage::Momentum { .. }, search) => {
-                with_search!(search, s => force_pass(s, &c, &mut self.fluid, &self.walls, body_force))
-            }
-            (ForceStage::Coupled { sweep: PairSweep::Half }, Search::Grid(s)) => {
+        match self.plan.forces {
+            ForceStage::Momentum { sweep } => self.momentum_stage(sweep, body_force),
+            ForceStage::Coupled { sweep } => {
                 // The strain-rate sweep of continuity density listed the pairs of these
                 // positions; otherwise the pairs come from the grid.
                 let lists = matches!(
@@ -211,25 +205,8 @@ impl<const D: usize> Simulation<D> {
                         ..
                     }
                 );
-                modern_force_pass_sorted(
-                    s,
-                    &self.blocks,
-                    &c,
-                    &mut self.fluid,
-                    &self.walls,
-                    &mut self.buffers,
-                    body_force,
-                    lists,
-                )
+                self.coupled_stage(sweep, lists, body_force)
             }
-            (ForceStage::Coupled { .. }, search) => with_search!(search, s => modern_force_pass(
-                s,
-                &c,
-                &mut self.fluid,
-                &self.walls,
-                &mut self.buffers,
-                body_force
-            )),
         }
     }
 }

@@ -70,14 +70,14 @@ pub(crate) struct StrainSweep<'a, const D: usize> {
     pub(crate) pos: &'a [Vector<D>],
     pub(crate) vel: &'a [Vector<D>],
     pub(crate) inv_rho: &'a [f64],
-    pub(crate) grad_acc: &'a SharedSlice<Tensor<D>>,
+    pub(crate) grad_acc: &'a SweepSlots<'a, Tensor<D>>,
 }
 
 impl<const D: usize> StrainSweep<'_, D> {
     /// A batch of pairs (i, j) within the support: (v_j − v_i) ⊗ ∇_i W_ij to i's sum and to
     /// j's, with the kernel factors of the batch from one vectorised loop.
     #[inline(always)]
-    pub(crate) fn batch(&self, i: usize, batch_j: &[u32], batch_r2: &[f64], grad_v: &mut Tensor<D>) {
+    pub(crate) fn batch(&self, block: &Block, i: usize, batch_j: &[u32], batch_r2: &[f64], grad_v: &mut Tensor<D>) {
         let m = self.m;
         let (xi, vi, volume_i) = (self.pos[i], self.vel[i], m * self.inv_rho[i]);
         let mut batch_w = [0.0f64; BATCH];
@@ -89,10 +89,7 @@ impl<const D: usize> StrainSweep<'_, D> {
             let grad_w = (xi - self.pos[j]) * f;
             let outer = (self.vel[j] - vi) * grad_w.transpose();
             *grad_v += outer * (m * self.inv_rho[j]);
-            // SAFETY: j is in this block or the next (colour_blocks).
-            unsafe {
-                *self.grad_acc.at(j) += outer * volume_i;
-            }
+            self.grad_acc.add(block, j, outer * volume_i);
         }
     }
 }
@@ -101,6 +98,7 @@ impl<const D: usize> StrainSweep<'_, D> {
 /// overflow flag, and its velocity-gradient sum.
 pub(crate) struct StrainOwner<'s, 'a, const D: usize> {
     pub(crate) sweep: &'s StrainSweep<'a, D>,
+    pub(crate) block: &'s Block,
     pub(crate) i: usize,
     pub(crate) list: &'s mut [u32],
     pub(crate) fill: ListFill,
@@ -111,7 +109,7 @@ impl<const D: usize> ForwardPairBatch for StrainOwner<'_, '_, D> {
     #[inline(always)]
     fn batch(&mut self, batch_j: &[u32], batch_r2: &[f64]) {
         self.sweep
-            .batch(self.i, batch_j, batch_r2, &mut self.grad_v);
+            .batch(self.block, self.i, batch_j, batch_r2, &mut self.grad_v);
         self.fill.append(self.list, batch_j);
     }
 }
@@ -138,10 +136,9 @@ pub(crate) fn strain_pass_sorted<const D: usize>(
         .par_iter_mut()
         .with_min_len(PAR_CHUNK)
         .for_each(|g| *g = Tensor::<D>::zeros());
-    let grad_acc = SharedSlice::new(&mut fluid.strain_rate);
-    let entries = SharedSlice::new(&mut fluid.neighbours.entries);
-    let counts = SharedSlice::new(&mut fluid.neighbours.count);
-    let starts = SharedSlice::new(&mut fluid.neighbours.start);
+    let grad_acc = SweepSlots::new(&mut fluid.strain_rate);
+    let counts = SweepSlots::new(&mut fluid.neighbours.count);
+    let starts = SweepSlots::new(&mut fluid.neighbours.start);
     let sweep = StrainSweep {
         kernel,
         m,
@@ -150,17 +147,17 @@ pub(crate) fn strain_pass_sorted<const D: usize>(
         inv_rho,
         grad_acc: &grad_acc,
     };
-    colour_sweep(blocks, |_, begin, end| {
+    colour_sweep_listing(blocks, &mut fluid.neighbours.entries, capacity, |block, region| {
+        let (begin, end) = (block.begin, block.end);
         // The block's lists are packed from the start of its share of the entries (see
         // `density_pass_sorted`).
-        let mut cursor = begin * capacity;
+        let mut cursor = 0;
         for i in begin..end {
             let xi = pos[i];
-            // SAFETY: entries begin·capacity..end·capacity belong to this block, and
-            // cursor + capacity ≤ (i + 1)·capacity.
-            let list = unsafe { entries.slice(cursor, capacity) };
+            let list = &mut region[cursor..cursor + capacity];
             let mut this = StrainOwner {
                 sweep: &sweep,
+                block,
                 i,
                 list: &mut *list,
                 fill: ListFill::default(),
@@ -175,12 +172,9 @@ pub(crate) fn strain_pass_sorted<const D: usize>(
                     fill.push(list, w as u32 | WALL_NEIGHBOUR);
                 }
             });
-            // SAFETY: slot i belongs to this block.
-            unsafe {
-                *grad_acc.at(i) += grad_v;
-                *counts.at(i) = fill.stored_count();
-                *starts.at(i) = cursor as u32;
-            }
+            grad_acc.add(block, i, grad_v);
+            counts.set(block, i, fill.stored_count());
+            starts.set(block, i, (begin * capacity + cursor) as u32);
             cursor += fill.listed;
         }
     });

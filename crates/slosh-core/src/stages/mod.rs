@@ -15,7 +15,7 @@ mod summation;
 mod symplectic;
 mod walls;
 pub(crate) use continuity::*;
-pub(crate) use forces::*;
+
 
 pub(crate) use walls::*;
 

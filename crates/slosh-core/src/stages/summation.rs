@@ -209,9 +209,9 @@ pub(crate) struct DensitySweep<'a, const D: usize> {
     pub(crate) pos: &'a [Vector<D>],
     pub(crate) vel: &'a [Vector<D>],
     pub(crate) inv_rho: &'a [f64],
-    pub(crate) rho_acc: &'a SharedSlice<f64>,
-    pub(crate) ksum_acc: &'a SharedSlice<f64>,
-    pub(crate) grad_acc: &'a SharedSlice<Tensor<D>>,
+    pub(crate) rho_acc: &'a SweepSlots<'a, f64>,
+    pub(crate) ksum_acc: &'a SweepSlots<'a, f64>,
+    pub(crate) grad_acc: &'a SweepSlots<'a, Tensor<D>>,
 }
 
 /// The running sums of one particle in the sorted density sweep, and its list's fill.
@@ -229,6 +229,7 @@ impl<const D: usize> DensitySweep<'_, D> {
     #[inline(always)]
     pub(crate) fn batch(
         &self,
+        block: &Block,
         (xi, vi, volume_i): (Vector<D>, Vector<D>, f64),
         batch_j: &[u32],
         batch_r2: &[f64],
@@ -252,12 +253,9 @@ impl<const D: usize> DensitySweep<'_, D> {
             // tensor.
             let outer = (self.vel[j] - vi) * (xij * grad_factor).transpose();
             grad_v += outer * volume_j;
-            // SAFETY: j is in this block or the next (colour_blocks).
-            unsafe {
-                *self.rho_acc.at(j) += mw;
-                *self.ksum_acc.at(j) += volume_i * w;
-                *self.grad_acc.at(j) += outer * volume_i;
-            }
+            self.rho_acc.add(block, j, mw);
+            self.ksum_acc.add(block, j, volume_i * w);
+            self.grad_acc.add(block, j, outer * volume_i);
         }
         (sums.rho, sums.kernel_sum, sums.grad_v) = (rho_sum, kernel_sum, grad_v);
         sums.fill.append(list, batch_j);
@@ -268,6 +266,7 @@ impl<const D: usize> DensitySweep<'_, D> {
 /// sums.
 pub(crate) struct DensityOwner<'s, 'a, const D: usize> {
     pub(crate) sweep: &'s DensitySweep<'a, D>,
+    pub(crate) block: &'s Block,
     /// (x_i, v_i, m/ρ_i).
     pub(crate) owner: (Vector<D>, Vector<D>, f64),
     pub(crate) list: &'s mut [u32],
@@ -278,7 +277,7 @@ impl<const D: usize> ForwardPairBatch for DensityOwner<'_, '_, D> {
     #[inline(always)]
     fn batch(&mut self, batch_j: &[u32], batch_r2: &[f64]) {
         self.sweep
-            .batch(self.owner, batch_j, batch_r2, self.list, &mut self.sums);
+            .batch(self.block, self.owner, batch_j, batch_r2, self.list, &mut self.sums);
     }
 }
 
@@ -300,7 +299,6 @@ pub(crate) fn density_pass_sorted<const D: usize>(
     let kernel = c.kernel;
     let m = c.mass;
     let w0 = kernel.value(0.0);
-    let n_wall = walls.position.len();
     // The fluid sums start at zero (zeroed by `sort_and_index`), the wall sums too (zeroed
     // when read, below).
     {
@@ -310,18 +308,14 @@ pub(crate) fn density_pass_sorted<const D: usize>(
         let wall_pos = &walls.position;
         let wall_inv_rho = &walls.inverse_density;
         let capacity = fluid.neighbours.capacity;
-        let rho_acc = SharedSlice::new(next_density);
-        let ksum_acc = SharedSlice::new(&mut fluid.kernel_sum);
+        let rho_acc = SweepSlots::new(next_density);
+        let ksum_acc = SweepSlots::new(&mut fluid.kernel_sum);
         // Velocity gradient G_ab = Σ (m/ρ_j)(v_j − v_i)_a ∂W/∂x_i,b (Eq. 5 terms); turned
         // into V below.
-        let grad_acc = SharedSlice::new(&mut fluid.strain_rate);
-        let entries = SharedSlice::new(&mut fluid.neighbours.entries);
-        let counts = SharedSlice::new(&mut fluid.neighbours.count);
-        let starts = SharedSlice::new(&mut fluid.neighbours.start);
-        let wall_rho_acc = SharedSlice::new(&mut scatter.rho);
-        let wall_ksum_acc = SharedSlice::new(&mut scatter.kernel_sum);
-        let wall_near_r2 = SharedSlice::new(&mut scatter.nearest_r2);
-        let wall_near = SharedSlice::new(&mut scatter.nearest);
+        let grad_acc = SweepSlots::new(&mut fluid.strain_rate);
+        let counts = SweepSlots::new(&mut fluid.neighbours.count);
+        let starts = SweepSlots::new(&mut fluid.neighbours.start);
+        let wall_sums = scatter.slots();
         let sweep = DensitySweep {
             kernel,
             m,
@@ -332,20 +326,18 @@ pub(crate) fn density_pass_sorted<const D: usize>(
             ksum_acc: &ksum_acc,
             grad_acc: &grad_acc,
         };
-        colour_sweep(blocks, |b, begin, end| {
-            // This block's set of wall sums (see WallScatter).
-            let set = (b % WallScatter::SETS) * n_wall;
+        let entries = &mut fluid.neighbours.entries;
+        colour_sweep_listing(blocks, entries, capacity, |block, region| {
+            let (begin, end) = (block.begin, block.end);
             // The block's lists are packed from the start of its share of the entries; a
             // particle always has room for `capacity` entries (those before it used at most
             // as many each).
-            let mut cursor = begin * capacity;
+            let mut cursor = 0;
             for i in begin..end {
                 let xi = pos[i];
                 let vi = vel[i];
                 let volume_i = m * inv_rho[i];
-                // SAFETY: entries begin·capacity..end·capacity belong to this block, and
-                // cursor + capacity ≤ (i + 1)·capacity.
-                let list = unsafe { entries.slice(cursor, capacity) };
+                let list = &mut region[cursor..cursor + capacity];
                 // The particle itself (r = 0, no gradient).
                 let rho_sum = m * w0;
                 let kernel_sum = volume_i * w0;
@@ -358,6 +350,7 @@ pub(crate) fn density_pass_sorted<const D: usize>(
                 };
                 let mut this = DensityOwner {
                     sweep: &sweep,
+                    block,
                     owner: (xi, vi, volume_i),
                     list: &mut *list,
                     sums,
@@ -377,29 +370,15 @@ pub(crate) fn density_pass_sorted<const D: usize>(
                         rho_sum += m * w;
                         kernel_sum += m * wall_inv_rho[w_idx] * w;
                         // The pair's share of the wall particle's sums (Eq. 19 at the wall).
-                        // SAFETY: blocks using one set are ≥ 3 stencil reaches apart, farther
-                        // than two fluid neighbours of one wall particle can be.
-                        unsafe {
-                            let k = set + w_idx;
-                            *wall_rho_acc.at(k) += m * w;
-                            *wall_ksum_acc.at(k) += volume_i * w;
-                            let near = wall_near_r2.at(k);
-                            if r2 < *near {
-                                *near = r2;
-                                *wall_near.at(k) = i as u32;
-                            }
-                        }
+                        wall_sums.add(block, w_idx, m * w, volume_i * w, r2, i as u32);
                         fill.push(list, w_idx as u32 | WALL_NEIGHBOUR);
                     }
                 });
-                // SAFETY: slot i belongs to this block.
-                unsafe {
-                    *counts.at(i) = fill.stored_count();
-                    *starts.at(i) = cursor as u32;
-                    *rho_acc.at(i) += rho_sum;
-                    *ksum_acc.at(i) += kernel_sum;
-                    *grad_acc.at(i) += grad_v;
-                }
+                counts.set(block, i, fill.stored_count());
+                starts.set(block, i, (begin * capacity + cursor) as u32);
+                rho_acc.add(block, i, rho_sum);
+                ksum_acc.add(block, i, kernel_sum);
+                grad_acc.add(block, i, grad_v);
                 cursor += fill.listed;
             }
         });
@@ -407,31 +386,10 @@ pub(crate) fn density_pass_sorted<const D: usize>(
     {
         let wall_pos = &walls.position;
         let wall_inv_rho = &walls.inverse_density;
-        let set_rho = SharedSlice::new(&mut scatter.rho);
-        let set_ksum = SharedSlice::new(&mut scatter.kernel_sum);
-        let set_near_r2 = SharedSlice::new(&mut scatter.nearest_r2);
-        let set_near = SharedSlice::new(&mut scatter.nearest);
+        scatter.drain();
         wall_densities(c, next_wall_density, &mut walls.nearest_fluid, |w_i| {
-            // Fluid neighbours: the sets of the sweep, in a fixed order, left zeroed for the
-            // next step.
-            let (mut rho_sum, mut kernel_sum) = (0.0, 0.0);
-            let mut nearest = (f64::INFINITY, u32::MAX);
-            for s in 0..WallScatter::SETS {
-                let k = s * n_wall + w_i;
-                // SAFETY: entry k belongs to wall particle w_i, visited once.
-                let candidate = unsafe {
-                    rho_sum += std::mem::take(set_rho.at(k));
-                    kernel_sum += std::mem::take(set_ksum.at(k));
-                    (
-                        std::mem::replace(set_near_r2.at(k), f64::INFINITY),
-                        std::mem::replace(set_near.at(k), u32::MAX),
-                    )
-                };
-                if candidate.0 < nearest.0 || (candidate.0 == nearest.0 && candidate.1 < nearest.1)
-                {
-                    nearest = candidate;
-                }
-            }
+            // Fluid neighbours: the sums the sweep scattered.
+            let (mut rho_sum, mut kernel_sum, nearest) = scatter.total(w_i);
             // Wall neighbours.
             let xw = wall_pos[w_i];
             grid.for_each_wall_candidate(&xw, |k| {

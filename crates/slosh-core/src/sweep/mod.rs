@@ -1,56 +1,116 @@
 //! The pair-sweep driver: scheduling of the half sweep over cell-sorted blocks, batching,
 //! neighbour-list filling; every `unsafe` line of the solver is here.
 
+mod pairs;
+pub(crate) use pairs::*;
+
 use crate::neighbours::CellGrid;
 use crate::sim::*;
 use rayon::prelude::*;
 
-/// A slice written through by the blocks of one colour of a pair sweep (`colour_sweep`),
-/// which touch disjoint slots.
-pub(crate) struct SharedSlice<T> {
-    pub(crate) ptr: *mut T,
-    pub(crate) len: usize,
+/// A block of a [`colour_sweep`] while it runs: its slots `begin..end`, and the end of the
+/// slots it may write (its own and the next block's).
+pub(crate) struct Block {
+    /// Block number (0-based, in slot order).
+    pub(crate) index: usize,
+    /// First slot of the block.
+    pub(crate) begin: usize,
+    /// One past the last slot of the block.
+    pub(crate) end: usize,
+    /// One past the last slot the block may write: the end of the next block.
+    writable_end: usize,
 }
 
-// SAFETY: a SharedSlice is only dereferenced at slots that no other thread touches at the
-// same time (see `at`); the element type itself moves between threads.
-unsafe impl<T: Send> Send for SharedSlice<T> {}
-unsafe impl<T: Send> Sync for SharedSlice<T> {}
+impl Block {
+    /// The one slot `i`, for a pass that writes each particle's slot alone.
+    fn single(i: usize) -> Self {
+        Block {
+            index: 0,
+            begin: i,
+            end: i + 1,
+            writable_end: i + 1,
+        }
+    }
+}
 
-impl<T> SharedSlice<T> {
-    pub(crate) fn new(values: &mut [T]) -> Self {
-        SharedSlice {
+/// An array that the running blocks of a [`colour_sweep`] add to, each at the slots of its
+/// [`Block`] and the next block, which no other running block touches. Every access checks
+/// that bound, so the sweeps that use it hold no `unsafe` code.
+pub(crate) struct SweepSlots<'a, T> {
+    ptr: *mut T,
+    len: usize,
+    _borrow: std::marker::PhantomData<&'a mut [T]>,
+}
+
+// SAFETY: a SweepSlots is only accessed at slots of the running block or the next one
+// (checked in `slot`), which no other thread touches while the block runs (`colour_sweep`);
+// the element type itself moves between threads.
+unsafe impl<T: Send> Send for SweepSlots<'_, T> {}
+unsafe impl<T: Send> Sync for SweepSlots<'_, T> {}
+
+impl<'a, T: Copy> SweepSlots<'a, T> {
+    /// The slots of `values`, borrowed for the sweep.
+    pub(crate) fn new(values: &'a mut [T]) -> Self {
+        SweepSlots {
             ptr: values.as_mut_ptr(),
             len: values.len(),
+            _borrow: std::marker::PhantomData,
         }
     }
 
-    /// The element at `i`.
-    ///
-    /// # Safety
-    /// No other thread may access slot `i` while the reference lives: in a colour sweep,
-    /// slot `i` belongs to the running block or to the next one, and blocks of one colour are
-    /// two apart.
+    /// The first slot (the closures of a sweep capture the whole `SweepSlots` through this
+    /// call, and with it its `Sync`).
     #[inline(always)]
-    #[allow(clippy::mut_from_ref)]
-    pub(crate) unsafe fn at(&self, i: usize) -> &mut T {
-        debug_assert!(i < self.len);
-        &mut *self.ptr.add(i)
+    fn base(&self) -> *mut T {
+        self.ptr
     }
 
-    /// The `len` elements from `start`.
-    ///
-    /// # Safety
-    /// As for [`Self::at`], for every slot of the range.
+    /// Slot `i` of the running `block`; panics outside the block and the next one.
     #[inline(always)]
-    #[allow(clippy::mut_from_ref)]
-    pub(crate) unsafe fn slice(&self, start: usize, len: usize) -> &mut [T] {
-        debug_assert!(start + len <= self.len);
-        std::slice::from_raw_parts_mut(self.ptr.add(start), len)
+    fn slot(&self, block: &Block, i: usize) -> *mut T {
+        assert!(
+            i >= block.begin && i < block.writable_end && i < self.len,
+            "pair sweep: slot {i} outside block {} ({}..{})",
+            block.index,
+            block.begin,
+            block.writable_end
+        );
+        self.ptr.wrapping_add(i)
+    }
+
+    /// Sets slot `i` to `value`.
+    #[inline(always)]
+    pub(crate) fn set(&self, block: &Block, i: usize, value: T) {
+        let p = self.slot(block, i);
+        // SAFETY: `slot` checked that i belongs to this block or the next, which no other
+        // thread accesses while this block runs.
+        unsafe { *p = value }
+    }
+
+    /// Adds `value` to slot `i`.
+    #[inline(always)]
+    pub(crate) fn add(&self, block: &Block, i: usize, value: T)
+    where
+        T: std::ops::AddAssign,
+    {
+        let p = self.slot(block, i);
+        // SAFETY: as in `set`.
+        unsafe { *p += value }
+    }
+
+    /// Subtracts `value` from slot `i`.
+    #[inline(always)]
+    pub(crate) fn sub(&self, block: &Block, i: usize, value: T)
+    where
+        T: std::ops::SubAssign,
+    {
+        let p = self.slot(block, i);
+        // SAFETY: as in `set`.
+        unsafe { *p -= value }
     }
 }
 
-/// Runs `block(b, begin, end)` for every block b of slots given by `bounds` (see
+/// Runs `block` for every block of slots given by `bounds` (see
 /// [`CellGrid::colour_blocks`]). A block may write its own slots and those of the next block,
 /// so two neighbouring blocks never run at the same time, and each slot receives its shares
 /// in one fixed order: the even blocks come first (each may run at any time), and an odd
@@ -59,9 +119,46 @@ impl<T> SharedSlice<T> {
 /// threads, but without a barrier between the two colours: a thread that finds no block
 /// ready waits only for the neighbours of the next one (with two threads on 32 blocks, the
 /// barrier between colours left each thread idle ≈ 10 % of a sweep).
-pub(crate) fn colour_sweep<F: Fn(usize, usize, usize) + Sync>(bounds: &[u32], block: F) {
+pub(crate) fn colour_sweep<F: Fn(&Block) + Sync>(bounds: &[u32], block: F) {
+    colour_sweep_listing(bounds, &mut [], 0, |b, _| block(b));
+}
+
+/// [`colour_sweep`] for a sweep that fills neighbour lists: each block also gets its share
+/// of `entries`, the `capacity` entries of each of its particles
+/// (`entries[begin·capacity..end·capacity]`), to pack its lists into.
+pub(crate) fn colour_sweep_listing<F: Fn(&Block, &mut [u32]) + Sync>(
+    bounds: &[u32],
+    entries: &mut [u32],
+    capacity: usize,
+    block: F,
+) {
     let n_blocks = bounds.len().saturating_sub(1);
-    let run = |b: usize| block(b, bounds[b] as usize, bounds[b + 1] as usize);
+    let n_slots = bounds.last().map_or(0, |&b| b as usize);
+    assert!(entries.len() >= n_slots * capacity, "neighbour lists too short for the sweep");
+    let lists = SweepSlots::new(entries);
+    let run = |b: usize| {
+        let (begin, end) = (bounds[b] as usize, bounds[b + 1] as usize);
+        let this = Block {
+            index: b,
+            begin,
+            end,
+            writable_end: bounds.get(b + 2).map_or(end, |&e| e as usize),
+        };
+        let region: &mut [u32] = if capacity == 0 {
+            &mut []
+        } else {
+            // SAFETY: blocks cover disjoint slot ranges, so their shares of the entries
+            // (begin·capacity..end·capacity, within `entries` by the assertion above) are
+            // disjoint, and each block takes its share once.
+            unsafe {
+                std::slice::from_raw_parts_mut(
+                    lists.base().add(begin * capacity),
+                    (end - begin) * capacity,
+                )
+            }
+        };
+        block(&this, region)
+    };
     if rayon::current_num_threads() <= 1 || n_blocks <= 2 {
         (0..n_blocks)
             .step_by(2)
@@ -255,20 +352,24 @@ impl ListFill {
 #[derive(Clone, Debug, Default)]
 pub(crate) struct WallScatter {
     /// Σ m W per set and wall particle (set-major).
-    pub(crate) rho: Vec<f64>,
+    rho: Vec<f64>,
     /// Σ (m/ρ_j) W per set and wall particle.
-    pub(crate) kernel_sum: Vec<f64>,
+    kernel_sum: Vec<f64>,
     /// Squared distance of the nearest fluid particle per set and wall particle.
-    pub(crate) nearest_r2: Vec<f64>,
+    nearest_r2: Vec<f64>,
     /// That fluid particle (u32::MAX: none).
-    pub(crate) nearest: Vec<u32>,
+    nearest: Vec<u32>,
+    /// The sets added up per wall particle by [`Self::drain`]: Σ m W, Σ (m/ρ_j) W and the
+    /// nearest fluid particle (squared distance, index).
+    totals: Vec<(f64, f64, (f64, u32))>,
 }
 
 impl WallScatter {
     /// Sets: blocks b and b + 4 of one colour are ≥ 3 stencil reaches apart, while two fluid
     /// neighbours of one wall particle are at most 2 apart.
-    pub(crate) const SETS: usize = 4;
+    const SETS: usize = 4;
 
+    /// Empty sums for `n_wall` wall particles.
     pub(crate) fn new(n_wall: usize) -> Self {
         let len = Self::SETS * n_wall;
         WallScatter {
@@ -276,12 +377,108 @@ impl WallScatter {
             kernel_sum: vec![0.0; len],
             nearest_r2: vec![f64::INFINITY; len],
             nearest: vec![u32::MAX; len],
+            totals: vec![(0.0, 0.0, (f64::INFINITY, u32::MAX)); n_wall],
         }
     }
 
     /// Bytes held.
     pub(crate) fn heap_bytes(&self) -> usize {
-        self.rho.len() * 28
+        self.rho.len() * 28 + self.totals.len() * std::mem::size_of::<(f64, f64, (f64, u32))>()
+    }
+
+    /// The sums, for the running blocks of a density sweep to add to.
+    pub(crate) fn slots(&mut self) -> WallScatterSlots<'_> {
+        WallScatterSlots {
+            n_wall: self.totals.len(),
+            rho: self.rho.as_mut_ptr(),
+            kernel_sum: self.kernel_sum.as_mut_ptr(),
+            nearest_r2: self.nearest_r2.as_mut_ptr(),
+            nearest: self.nearest.as_mut_ptr(),
+            _borrow: std::marker::PhantomData,
+        }
+    }
+
+    /// Adds up the sets of each wall particle, in a fixed order, into [`Self::totals`] and
+    /// empties the sets for the next sweep.
+    pub(crate) fn drain(&mut self) {
+        let n_wall = self.totals.len();
+        let (rho, ksum, near_r2, near) =
+            (&self.rho, &self.kernel_sum, &self.nearest_r2, &self.nearest);
+        self.totals
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(PAR_CHUNK)
+            .for_each(|(w, total)| {
+                let (mut rho_sum, mut kernel_sum) = (0.0, 0.0);
+                let mut nearest = (f64::INFINITY, u32::MAX);
+                for s in 0..Self::SETS {
+                    let k = s * n_wall + w;
+                    rho_sum += rho[k];
+                    kernel_sum += ksum[k];
+                    let candidate = (near_r2[k], near[k]);
+                    if candidate.0 < nearest.0
+                        || (candidate.0 == nearest.0 && candidate.1 < nearest.1)
+                    {
+                        nearest = candidate;
+                    }
+                }
+                *total = (rho_sum, kernel_sum, nearest);
+            });
+        self.rho
+            .par_iter_mut()
+            .zip(self.kernel_sum.par_iter_mut())
+            .zip(self.nearest_r2.par_iter_mut())
+            .zip(self.nearest.par_iter_mut())
+            .with_min_len(4 * PAR_CHUNK)
+            .for_each(|(((r, k), d), j)| {
+                (*r, *k, *d, *j) = (0.0, 0.0, f64::INFINITY, u32::MAX);
+            });
+    }
+
+    /// Wall particle `w`'s sums over the fluid after [`Self::drain`]: Σ m W, Σ (m/ρ_j) W and
+    /// the nearest fluid particle (squared distance, index; u32::MAX when none).
+    #[inline(always)]
+    pub(crate) fn total(&self, w: usize) -> (f64, f64, (f64, u32)) {
+        self.totals[w]
+    }
+}
+
+/// The sums of a [`WallScatter`] while a density sweep adds to them.
+pub(crate) struct WallScatterSlots<'a> {
+    n_wall: usize,
+    rho: *mut f64,
+    kernel_sum: *mut f64,
+    nearest_r2: *mut f64,
+    nearest: *mut u32,
+    _borrow: std::marker::PhantomData<&'a mut WallScatter>,
+}
+
+// SAFETY: the running blocks of a colour sweep write the set of their block number modulo
+// `WallScatter::SETS` (see `add`); blocks using one set are ≥ 3 stencil reaches apart while
+// two fluid neighbours of one wall particle are at most 2 apart, so no entry is written by
+// two threads at once.
+unsafe impl Send for WallScatterSlots<'_> {}
+unsafe impl Sync for WallScatterSlots<'_> {}
+
+impl WallScatterSlots<'_> {
+    /// Adds the pair of fluid particle `i` and wall particle `w` at squared distance `r2`
+    /// (m²) to the wall particle's sums: m W (`rho`), (m/ρ_i) W (`kernel_sum`), and i as
+    /// its nearest fluid particle if it is nearer than those seen.
+    #[inline(always)]
+    pub(crate) fn add(&self, block: &Block, w: usize, rho: f64, kernel_sum: f64, r2: f64, i: u32) {
+        assert!(w < self.n_wall, "wall particle {w} out of range");
+        let k = (block.index % WallScatter::SETS) * self.n_wall + w;
+        // SAFETY: k < SETS · n_wall, the length of each array; no other running block
+        // writes entry k (see the Sync impl).
+        unsafe {
+            *self.rho.add(k) += rho;
+            *self.kernel_sum.add(k) += kernel_sum;
+            let near = self.nearest_r2.add(k);
+            if r2 < *near {
+                *near = r2;
+                *self.nearest.add(k) = i;
+            }
+        }
     }
 }
 
@@ -314,7 +511,8 @@ mod sweep_tests {
             let start: Vec<AtomicUsize> = (0..n_blocks).map(|_| AtomicUsize::new(0)).collect();
             let end: Vec<AtomicUsize> = (0..n_blocks).map(|_| AtomicUsize::new(0)).collect();
             pool.install(|| {
-                colour_sweep(&bounds, |b, begin, stop| {
+                colour_sweep(&bounds, |blk| {
+                    let (b, begin, stop) = (blk.index, blk.begin, blk.end);
                     assert_eq!((begin, stop), (10 * b, 10 * b + 10));
                     start[b].store(clock.fetch_add(1, Ordering::SeqCst), Ordering::SeqCst);
                     runs[b].fetch_add(1, Ordering::SeqCst);

@@ -1,6 +1,7 @@
 //! The momentum, continuity, density-diffusion and shifting terms of one pair, evaluated together.
 
 use crate::sim::*;
+use crate::sweep::{Block, PairInteraction, SweepSlots};
 use crate::terms::*;
 
 /// What the pair terms of the modern force pass read: one copy for both neighbour backends,
@@ -120,23 +121,11 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
     ) -> FluidPairTerm<D> {
         let c = &self.base.c;
         let m = c.mass;
+        // Eq. 8: the paper's pair term.
+        let acc = self.base.fluid_term_with(&o.f, j, xij, (f, inv_s, inv_rho_mean));
         let grad_w = xij * f;
-        let inv_rho_j = self.base.inv_rho[j];
-        let volume_j = m * inv_rho_j;
-        let inv_rho_ij = o.f.inv_rho * inv_rho_j;
+        let volume_j = m * self.base.inv_rho[j];
         let vij = o.f.v - self.base.vel[j];
-        // Pressure part of (σ_i + σ_j)/(ρ_i ρ_j) ∇W (Eq. 8).
-        let mut scalar = -(o.f.p + self.base.p[j]) * inv_rho_ij;
-        if self.base.av_on {
-            scalar -= self
-                .base
-                .artificial_viscosity(vij, xij, inv_s, inv_rho_mean);
-        }
-        let mut acc = grad_w * (m * scalar);
-        if self.base.viscous {
-            // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W (Eq. 8, 3).
-            acc += (o.f.strain + self.base.strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
-        }
         let (mut drho_i, mut drho_j) = (0.0, 0.0);
         if self.continuity {
             let d = m * vij.dot(&grad_w);
@@ -162,44 +151,23 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
         }
     }
 
-    /// [`Self::fluid_pair`] with the pair factors computed here (the paths without a batch).
+    /// The pair of fluid particle `o` and wall particle `w` within the support, at
+    /// x_iw = x_i − x_w and squared distance r2 (m²): Eq. 8 with the wall's pressure (and
+    /// velocity when mirrored), the continuity term of the wall's velocity (zero: the tank
+    /// frame), and the shifting sums.
     #[inline(always)]
-    pub(crate) fn fluid_pair_at(
+    pub(crate) fn wall_term(
         &self,
-        o: &ModernOwner<D>,
-        j: usize,
-        xij: Vector<D>,
+        o: &ForceOwner<D>,
+        w: usize,
+        xiw: Vector<D>,
         r2: f64,
-    ) -> FluidPairTerm<D> {
-        let factors = self.base.pair_factors(r2, o.f.rho + self.base.rho[j]);
-        self.fluid_pair(o, j, xij, r2.sqrt().max(1e-150), factors)
-    }
-
-    /// The pair of fluid particle `o` and wall particle `w` if within the support: Eq. 8 with
-    /// the wall's pressure (and velocity when mirrored), the continuity term of the wall's
-    /// velocity (zero: the tank frame), and the shifting sums.
-    #[inline(always)]
-    pub(crate) fn wall_term(&self, o: &ForceOwner<D>, w: usize) -> Option<WallPairTerm<D>> {
+    ) -> WallPairTerm<D> {
         let c = &self.base.c;
         let m = c.mass;
-        let xiw = o.x - self.base.wall_pos[w];
-        let r2 = xiw.norm_squared();
-        if r2 >= c.support_sq {
-            return None;
-        }
-        let (f, inv_s, inv_rho_mean) = self.base.pair_factors(r2, o.rho + self.base.wall_rho[w]);
-        let grad_w = xiw * f;
-        let inv_rho_iw = o.inv_rho * self.base.wall_inv_rho[w];
-        let mut scalar = -(o.p + self.base.wall_p[w]) * inv_rho_iw;
-        if self.wall_av {
-            scalar -= self
-                .base
-                .artificial_viscosity(o.v, xiw, inv_s, inv_rho_mean);
-        }
-        let mut acc = grad_w * (m * scalar);
-        if self.wall_viscous {
-            acc += o.strain * grad_w * (m * c.viscosity * inv_rho_iw);
-        }
+        let (mut acc, grad_w, f, inv_s, inv_rho_iw) =
+            self.base
+                .wall_momentum(o, w, xiw, r2, self.wall_av, self.wall_viscous);
         if self.no_slip_viscous {
             // No-slip Adami wall: the laminar viscous force of Morris et al. (1997),
             // m (μ_i + μ_w) (x_iw·∇_i W) v_iw / (ρ_i ρ_w (r² + 0.01 h²)), against the mirrored
@@ -218,12 +186,39 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
         } else {
             (Vector::<D>::zeros(), 0.0)
         };
-        Some(WallPairTerm {
+        WallPairTerm {
             acc,
             drho,
             grad_c,
             kernel_sum,
-        })
+        }
+    }
+}
+
+/// The arrays the modern force pass writes, taken out of the fluid and the state while the
+/// pair terms read the rest (no allocation: empty Vecs stand in until [`Self::restore`]).
+pub(crate) struct ForceOutputs<const D: usize> {
+    pub(crate) acceleration: Vec<Vector<D>>,
+    pub(crate) density_rate: Vec<f64>,
+    pub(crate) shift_gradient: Vec<Vector<D>>,
+    pub(crate) shift_kernel_sum: Vec<f64>,
+}
+
+impl<const D: usize> ForceOutputs<D> {
+    pub(crate) fn take(fluid: &mut Fluid<D>, st: &mut StageBuffers<D>) -> Self {
+        ForceOutputs {
+            acceleration: std::mem::take(&mut fluid.acceleration),
+            density_rate: std::mem::take(&mut fluid.density_rate),
+            shift_gradient: std::mem::take(&mut st.shift_gradient),
+            shift_kernel_sum: std::mem::take(&mut st.shift_kernel_sum),
+        }
+    }
+
+    pub(crate) fn restore(self, fluid: &mut Fluid<D>, st: &mut StageBuffers<D>) {
+        fluid.acceleration = self.acceleration;
+        fluid.density_rate = self.density_rate;
+        st.shift_gradient = self.shift_gradient;
+        st.shift_kernel_sum = self.shift_kernel_sum;
     }
 }
 
@@ -264,5 +259,137 @@ impl<const D: usize> OwnerSums<D> {
         self.drho += wall.drho;
         self.grad_c += wall.grad_c;
         self.ksum += wall.kernel_sum;
+    }
+}
+
+/// The momentum equation with, in the same pair loop, the continuity equation
+/// dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij (Monaghan 1992; walls at rest), the δ-SPH
+/// diffusion term (Molteni & Colagrossi 2009; Fourtakas et al. 2019) and the shifting
+/// gradient ∇C_i = Σ_j V_j ∇_i W_ij with its kernel sum, as a pass over pairs. In a half
+/// sweep the momentum term and the shifting gradient are antisymmetric in i and j, the
+/// continuity term symmetric, and the diffusion term of j is that of i with i and j
+/// exchanged.
+pub(crate) struct Coupled<'a, const D: usize> {
+    terms: ModernPairTerms<'a, D>,
+    acceleration: SweepSlots<'a, Vector<D>>,
+    density_rate: SweepSlots<'a, f64>,
+    shift_gradient: SweepSlots<'a, Vector<D>>,
+    shift_kernel_sum: SweepSlots<'a, f64>,
+    shifting: bool,
+    /// W(0), a particle's own share of its kernel sum.
+    w0: f64,
+    body_force: Vector<D>,
+}
+
+impl<'a, const D: usize> Coupled<'a, D> {
+    /// The pass over `fluid`, `walls` and the stage buffers `st`, writing the acceleration
+    /// (m/s², body force included), dρ/dt (kg/(m³·s)) and, with shifting, ∇C (1/m) and the
+    /// kernel sum into `out`. A half sweep adds to `out`, which must hold the body force and
+    /// zeros already.
+    pub(crate) fn new(
+        c: &PassConstants,
+        fluid: &'a Fluid<D>,
+        walls: &'a Walls<D>,
+        st: &'a StageBuffers<D>,
+        out: &'a mut ForceOutputs<D>,
+        body_force: Vector<D>,
+    ) -> Self {
+        Coupled {
+            terms: ModernPairTerms::new(c, fluid, walls, st),
+            acceleration: SweepSlots::new(&mut out.acceleration),
+            density_rate: SweepSlots::new(&mut out.density_rate),
+            shift_gradient: SweepSlots::new(&mut out.shift_gradient),
+            shift_kernel_sum: SweepSlots::new(&mut out.shift_kernel_sum),
+            shifting: st.k.shifting.is_some(),
+            w0: c.kernel.value(0.0),
+            body_force,
+        }
+    }
+}
+
+impl<'a, const D: usize> PairInteraction<'a, D> for Coupled<'a, D> {
+    type Owner = ModernOwner<D>;
+    type Sums = OwnerSums<D>;
+
+    #[inline(always)]
+    fn momentum(&self) -> &ForceSweep<'a, D> {
+        &self.terms.base
+    }
+
+    #[inline(always)]
+    fn owner(&self, i: usize) -> (ModernOwner<D>, Vector<D>, f64) {
+        let o = self.terms.owner(i);
+        let (x, rho) = (o.f.x, o.f.rho);
+        (o, x, rho)
+    }
+
+    #[inline(always)]
+    fn start(&self, o: &ModernOwner<D>, itself: bool) -> OwnerSums<D> {
+        OwnerSums::new(if itself && self.shifting {
+            o.volume * self.w0
+        } else {
+            0.0
+        })
+    }
+
+    #[inline(always)]
+    fn itself(&self, o: &ModernOwner<D>, sums: &mut OwnerSums<D>) {
+        if self.shifting {
+            sums.ksum += o.volume * self.w0;
+        }
+    }
+
+    #[inline(always)]
+    fn fluid_pair<const HALF: bool>(
+        &self,
+        o: &ModernOwner<D>,
+        sums: &mut OwnerSums<D>,
+        j: usize,
+        xij: Vector<D>,
+        r: f64,
+        factors: (f64, f64, f64),
+        block: &Block,
+    ) {
+        let pair = self.terms.fluid_pair(o, j, xij, r, factors);
+        sums.add_fluid(&pair, self.shifting);
+        if HALF {
+            self.acceleration.sub(block, j, pair.acc);
+            self.density_rate.add(block, j, pair.drho_j);
+            if self.shifting {
+                self.shift_gradient.sub(block, j, pair.grad_w * o.volume);
+                self.shift_kernel_sum.add(block, j, o.volume * pair.w);
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn wall_pair(
+        &self,
+        o: &ModernOwner<D>,
+        sums: &mut OwnerSums<D>,
+        w: usize,
+        xiw: Vector<D>,
+        r2: f64,
+    ) {
+        sums.add_wall(&self.terms.wall_term(&o.f, w, xiw, r2));
+    }
+
+    #[inline(always)]
+    fn finish<const HALF: bool>(&self, i: usize, sums: OwnerSums<D>, block: &Block) {
+        if HALF {
+            self.acceleration.add(block, i, sums.acc);
+            self.density_rate.add(block, i, sums.drho);
+            if self.shifting {
+                self.shift_gradient.add(block, i, sums.grad_c);
+                self.shift_kernel_sum.add(block, i, sums.ksum);
+            }
+        } else {
+            self.acceleration.set(block, i, sums.acc + self.body_force);
+            self.density_rate.set(block, i, sums.drho);
+            if self.shifting {
+                self.shift_gradient.set(block, i, sums.grad_c);
+                self.shift_kernel_sum.set(block, i, sums.ksum);
+            }
+        }
     }
 }

@@ -1,6 +1,7 @@
 //! The momentum equation of a pair (Eq. 8–16).
 
 use crate::sim::*;
+use crate::sweep::{Block, PairInteraction, SweepSlots};
 
 /// What the sorted force sweep reads, gathered so that its pair terms can be functions that
 /// are always inlined (closures called from two places are not, and a call per pair costs
@@ -183,14 +184,9 @@ impl<'a, const D: usize> ForceSweep<'a, D> {
         (-c.av_alpha * c.av_sound_speed * phi + c.av_beta * phi * phi) * inv_rho_mean
     }
 
-    /// The acceleration of i from fluid particle j within the support (Eq. 8–9): added to i,
-    /// subtracted from j.
-    #[inline(always)]
-    pub(crate) fn fluid_term(&self, o: &ForceOwner<D>, j: usize, xij: Vector<D>, r2: f64) -> Vector<D> {
-        self.fluid_term_with(o, j, xij, self.pair_factors(r2, o.rho + self.rho[j]))
-    }
-
-    /// [`Self::fluid_term`] with the pair's factors (∇W factor, 1/s, 1/ρ̄) given.
+    /// The acceleration of i from fluid particle j within the support (Eq. 8–9), at
+    /// x_ij = x_i − x_j, with the pair's factors (∇W factor, 1/s, 1/ρ̄) of
+    /// [`Self::pair_factors`]: added to i, subtracted from j.
     #[inline(always)]
     pub(crate) fn fluid_term_with(
         &self,
@@ -216,24 +212,120 @@ impl<'a, const D: usize> ForceSweep<'a, D> {
         term
     }
 
-    /// The acceleration of i from wall particle w within the support.
+    /// The acceleration of i from wall particle w within the support, at x_iw = x_i − x_w and
+    /// squared distance r2 (m²): Eq. 8 with σ_w = −p_w I and the wall at rest in the
+    /// artificial viscosity (`with_av`), and the fluid's own viscous stress against the wall
+    /// (`with_viscous`). Returns the acceleration, ∇_i W_iw, its factor (dW/dr)/r, the
+    /// 1/(r² + 0.01 h²) of Eq. 11 and 1/(ρ_i ρ_w), for the terms that build on it.
     #[inline(always)]
-    pub(crate) fn wall_term(&self, o: &ForceOwner<D>, w: usize, xiw: Vector<D>, r2: f64) -> Vector<D> {
+    pub(crate) fn wall_momentum(
+        &self,
+        o: &ForceOwner<D>,
+        w: usize,
+        xiw: Vector<D>,
+        r2: f64,
+        with_av: bool,
+        with_viscous: bool,
+    ) -> (Vector<D>, Vector<D>, f64, f64, f64) {
         let c = &self.c;
         let m = c.mass;
         let (grad_factor, inv_s, inv_rho_mean) = self.pair_factors(r2, o.rho + self.wall_rho[w]);
         let grad_w = xiw * grad_factor;
         let inv_rho_iw = o.inv_rho * self.wall_inv_rho[w];
-        // Wall particles: σ_w = −p_w I (free slip: no viscous stress from the wall),
-        // velocity zero in the artificial viscosity.
         let mut scalar = -(o.p + self.wall_p[w]) * inv_rho_iw;
-        if self.av_on {
+        if with_av {
             scalar -= self.artificial_viscosity(o.v, xiw, inv_s, inv_rho_mean);
         }
         let mut term = grad_w * (m * scalar);
-        if self.viscous {
+        if with_viscous {
             term += o.strain * grad_w * (m * c.viscosity * inv_rho_iw);
         }
-        term
+        (term, grad_w, grad_factor, inv_s, inv_rho_iw)
+    }
+}
+
+/// The momentum equation alone (Eq. 8–16) as a pass over pairs: the paper's force pass.
+/// Dynamic wall particles enter as fluid particles at rest (paper §2.5).
+pub(crate) struct Momentum<'a, const D: usize> {
+    terms: ForceSweep<'a, D>,
+    acceleration: SweepSlots<'a, Vector<D>>,
+    body_force: Vector<D>,
+}
+
+impl<'a, const D: usize> Momentum<'a, D> {
+    /// The pass over `fluid` and `walls` writing `acceleration` (m/s²), with the body force
+    /// (gravity and the ground acceleration's inertia force) added to every particle. A half
+    /// sweep adds to `acceleration`, which must hold the body force already.
+    pub(crate) fn new(
+        c: &PassConstants,
+        fluid: &'a Fluid<D>,
+        walls: &'a Walls<D>,
+        acceleration: &'a mut [Vector<D>],
+        body_force: Vector<D>,
+    ) -> Self {
+        Momentum {
+            terms: ForceSweep::new(c, fluid, walls),
+            acceleration: SweepSlots::new(acceleration),
+            body_force,
+        }
+    }
+}
+
+impl<'a, const D: usize> PairInteraction<'a, D> for Momentum<'a, D> {
+    type Owner = ForceOwner<D>;
+    type Sums = Vector<D>;
+
+    #[inline(always)]
+    fn momentum(&self) -> &ForceSweep<'a, D> {
+        &self.terms
+    }
+
+    #[inline(always)]
+    fn owner(&self, i: usize) -> (ForceOwner<D>, Vector<D>, f64) {
+        let o = self.terms.owner(i);
+        let (x, rho) = (o.x, o.rho);
+        (o, x, rho)
+    }
+
+    #[inline(always)]
+    fn start(&self, _: &ForceOwner<D>, _: bool) -> Vector<D> {
+        Vector::<D>::zeros()
+    }
+
+    #[inline(always)]
+    fn itself(&self, _: &ForceOwner<D>, _: &mut Vector<D>) {}
+
+    #[inline(always)]
+    fn fluid_pair<const HALF: bool>(
+        &self,
+        o: &ForceOwner<D>,
+        acc: &mut Vector<D>,
+        j: usize,
+        xij: Vector<D>,
+        _r: f64,
+        factors: (f64, f64, f64),
+        block: &Block,
+    ) {
+        // Antisymmetric: ∇_j W_ji = −∇_i W_ij, every other factor symmetric in i and j.
+        let term = self.terms.fluid_term_with(o, j, xij, factors);
+        *acc += term;
+        if HALF {
+            self.acceleration.sub(block, j, term);
+        }
+    }
+
+    #[inline(always)]
+    fn wall_pair(&self, o: &ForceOwner<D>, acc: &mut Vector<D>, w: usize, xiw: Vector<D>, r2: f64) {
+        let t = &self.terms;
+        *acc += t.wall_momentum(o, w, xiw, r2, t.av_on, t.viscous).0;
+    }
+
+    #[inline(always)]
+    fn finish<const HALF: bool>(&self, i: usize, acc: Vector<D>, block: &Block) {
+        if HALF {
+            self.acceleration.add(block, i, acc);
+        } else {
+            self.acceleration.set(block, i, acc + self.body_force);
+        }
     }
 }
