@@ -131,9 +131,9 @@ impl<const D: usize> Simulation<D> {
     /// The density stage, then the wall stage.
     fn density_and_wall_stages(&mut self, body_force: Vector<D>) {
         let c = self.constants;
-        let dynamic_walls = self.plan.walls == WallStage::Dynamic;
+        let summed_walls = self.plan.walls == WallStage::Dynamic;
         match self.plan.density {
-            DensityStage::Summation { sweep } => self.summation_density(sweep, dynamic_walls),
+            DensityStage::Summation { sweep } => self.summation_density(sweep, summed_walls),
             DensityStage::Continuity {
                 velocity_gradient,
                 hydrostatic,
@@ -161,33 +161,40 @@ impl<const D: usize> Simulation<D> {
                 }
             }
         }
-        let summed_with_density = dynamic_walls
-            && matches!(self.plan.density, DensityStage::Summation { .. });
-        if !summed_with_density {
-            let st = &mut self.buffers;
-            let k = st.k;
-            with_search!(&self.search, s => wall_pass(
+        match self.plan.walls {
+            // Summed in the density pass with summation density.
+            WallStage::Dynamic if matches!(self.plan.density, DensityStage::Summation { .. }) => {}
+            WallStage::Dynamic => with_search!(&self.search, s => dynamic_walls(
                 s,
                 &c,
-                &k,
-                &mut self.fluid,
+                &self.fluid,
                 &mut self.walls,
                 &mut self.next_wall_density,
-                st,
-                body_force,
-            ));
-        }
-        if let WallStage::Adami {
-            no_slip_viscous: true,
-        } = self.plan.walls
-        {
-            with_search!(&self.search, s => wall_strain_pass(
-                s,
-                &c,
-                &mut self.fluid,
-                &self.walls,
-                &self.buffers.wall_velocity,
-            ));
+                &mut self.buffers.wall_pressure_next,
+            )),
+            WallStage::Adami { no_slip_viscous } => {
+                let (inv_gamma, no_slip) = (self.buffers.k.inv_gamma, self.params.wall_no_slip);
+                with_search!(&self.search, s => adami_walls(
+                    s,
+                    &c,
+                    inv_gamma,
+                    no_slip,
+                    &self.fluid,
+                    &mut self.walls,
+                    &mut self.next_wall_density,
+                    &mut self.buffers,
+                    body_force,
+                ));
+                if no_slip_viscous {
+                    with_search!(&self.search, s => wall_strain_pass(
+                        s,
+                        &c,
+                        &mut self.fluid,
+                        &self.walls,
+                        &self.buffers.wall_velocity,
+                    ));
+                }
+            }
         }
     }
 

@@ -54,7 +54,7 @@ pub(crate) fn strain_pass<const D: usize, S: NeighbourSearch<D>>(
                 if r2 < c.support_sq && j != i {
                     let r = r2.sqrt();
                     let grad_w = xij * kernel.gradient_factor(r);
-                    grad_v += (vel[j] - vi) * (grad_w * (m * inv_rho[j])).transpose();
+                    grad_v += velocity_gradient_share(vel[j] - vi, grad_w, m * inv_rho[j]);
                 }
             });
             // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
@@ -87,7 +87,7 @@ impl<const D: usize> StrainSweep<'_, D> {
         for (&j, &f) in batch_j.iter().zip(&batch_f) {
             let j = j as usize;
             let grad_w = (xi - self.pos[j]) * f;
-            let outer = (self.vel[j] - vi) * grad_w.transpose();
+            let outer = velocity_gradient_pair(self.vel[j] - vi, grad_w);
             *grad_v += outer * (m * self.inv_rho[j]);
             self.grad_acc.add(block, j, outer * volume_i);
         }

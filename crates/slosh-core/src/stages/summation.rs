@@ -86,7 +86,7 @@ pub(crate) fn density_pass<const D: usize, S: NeighbourSearch<D>>(
                             rho_sum += m * w;
                             kernel_sum += volume * w;
                             let grad_w = xij * grad_factor;
-                            grad_v += (vel[j] - vi) * (grad_w * volume).transpose();
+                            grad_v += velocity_gradient_share(vel[j] - vi, grad_w, volume);
                             fill.push(list, j as u32);
                         }
                     });
@@ -251,7 +251,7 @@ impl<const D: usize> DensitySweep<'_, D> {
             kernel_sum += volume_j * w;
             // (v_j − v_i) ⊗ ∇_i W_ij; for j the pair gives (v_i − v_j) ⊗ ∇_j W_ji, the same
             // tensor.
-            let outer = (self.vel[j] - vi) * (xij * grad_factor).transpose();
+            let outer = velocity_gradient_pair(self.vel[j] - vi, xij * grad_factor);
             grad_v += outer * volume_j;
             self.rho_acc.add(block, j, mw);
             self.ksum_acc.add(block, j, volume_i * w);
