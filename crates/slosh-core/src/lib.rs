@@ -7,6 +7,7 @@
 //! switchable one by one: continuity density with δ-SPH diffusion, Adami walls,
 //! the Wendland C2 kernel, symplectic time integration and particle shifting. No file,
 //! printing or scripting here: the crate takes particles and parameters and returns numbers.
+#![warn(missing_docs)]
 /// Evaluates `$body` with `$s` bound to the search of whichever backend `$search` holds (the
 /// body is compiled once per backend).
 macro_rules! with_search {
