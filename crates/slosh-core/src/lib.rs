@@ -7,7 +7,16 @@
 //! switchable one by one: continuity density with δ-SPH diffusion, Adami walls,
 //! the Wendland C2 kernel, symplectic time integration and particle shifting. No file,
 //! printing or scripting here: the crate takes particles and parameters and returns numbers.
+//!
+//! Layout (`docs/design.md` has the whole picture):
+//! - `sim/`: the particle arrays, the construction of a [`Simulation`], the step pipeline;
+//! - `stages/`: the stages of a step, one file each, chosen once per run;
+//! - `sweep/`: the pair-sweep drivers and their scheduling (every `unsafe` line is there);
+//! - `terms/`: each pair term once (momentum, the coupled continuity/diffusion/shifting
+//!   sums, the velocity gradient, wall summation);
+//! - `kernel.rs`, `neighbours.rs`, `loads.rs`, `gauge.rs`, `sound_speed.rs`, `params.rs`.
 #![warn(missing_docs)]
+
 /// Evaluates `$body` with `$s` bound to the search of whichever backend `$search` holds (the
 /// body is compiled once per backend).
 macro_rules! with_search {
