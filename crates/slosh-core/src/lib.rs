@@ -43,20 +43,22 @@ pub mod sound_speed;
 
 pub use error::SimError;
 pub use kernel::{Kernel, KernelKind};
-pub use loads::{LoadEvaluator, LoadPeaks, PartLoads};
+pub use loads::{LoadEvaluator, LoadPeaks, LoadState, PartLoads};
 pub use neighbours::{CellGrid, KdTreeSearch, NeighbourBackend, NeighbourSearch};
 pub use params::{
     ArtificialSoundSpeed, BoundaryMethod, DensityDiffusion, DensityMethod, Integrator,
     SoundSpeedRule, SphParams, WallPressureMethod, PAPER_EOS_STIFFNESS,
 };
 pub use setup::{ParticleSetup, TankInterior, PART_BOTTOM, PART_ROOF, PART_WALL};
-pub use sim::{Fluid, PhaseTimes, Simulation, StepStats, Tensor, Vector, Walls};
+pub use sim::{Fluid, PhaseTimes, SimState, Simulation, StepStats, Tensor, Vector, Walls};
 pub use sound_speed::SoundSpeedChoice;
 
 #[cfg(test)]
 mod test_tank;
 #[cfg(test)]
 mod tests_golden;
+#[cfg(test)]
+mod tests_checkpoint;
 #[cfg(test)]
 mod tests_modern;
 #[cfg(test)]

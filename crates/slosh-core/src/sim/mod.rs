@@ -22,7 +22,9 @@ pub type Vector<const D: usize> = SVector<f64, D>;
 /// A D×D tensor (strain rate).
 pub type Tensor<const D: usize> = SMatrix<f64, D, D>;
 
+mod checkpoint;
 mod sorting;
+pub use checkpoint::SimState;
 mod state;
 mod step;
 pub use state::*;
@@ -36,7 +38,7 @@ pub(crate) enum Search<const D: usize> {
 /// Per-step constants of the passes.
 
 /// Wall-clock time spent in each phase of the step (s), summed over the run.
-#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct PhaseTimes {
     /// Re-sorting and re-indexing the fluid particles (neighbour search).
     pub neighbour_search: f64,
@@ -58,7 +60,7 @@ impl PhaseTimes {
 }
 
 /// Time-step statistics of a run.
-#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct StepStats {
     /// Smallest time step taken (s).
     pub dt_min: f64,
