@@ -245,22 +245,24 @@ fn value_text(v: &ParamValue) -> String {
     }
 }
 
+/// `text` with characters other than letters, digits, `.`, `+`, `-`, `_` replaced by `_`.
+pub(crate) fn folder_safe(text: &str) -> String {
+    text.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '.' | '+' | '-' | '_') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
 /// The sub-folder name of a case: `name-value__name-value`, sanitised.
 pub fn case_folder_name(values: &[(String, ParamValue)]) -> String {
-    let sanitise = |s: &str| -> String {
-        s.chars()
-            .map(|c| {
-                if c.is_ascii_alphanumeric() || matches!(c, '.' | '+' | '-' | '_') {
-                    c
-                } else {
-                    '_'
-                }
-            })
-            .collect()
-    };
     let name = values
         .iter()
-        .map(|(n, v)| format!("{}-{}", sanitise(n), sanitise(&value_text(v))))
+        .map(|(n, v)| format!("{}-{}", folder_safe(n), folder_safe(&value_text(v))))
         .collect::<Vec<_>>()
         .join("__");
     if name.is_empty() {
@@ -333,7 +335,7 @@ impl<'de> Deserialize<'de> for OrderedFields {
 }
 
 /// A summary read back: its typed head and its scalars flattened to (column, text).
-struct ReadSummary {
+pub(crate) struct ReadSummary {
     head: SummaryHead,
     scalars: Vec<(String, String)>,
 }
@@ -463,17 +465,48 @@ fn same_parameters(
 }
 
 /// Everything about one case before it runs.
-struct Planned {
-    folder: String,
-    dir: PathBuf,
-    values: Vec<(String, ParamValue)>,
+pub(crate) struct Planned {
+    /// Sub-folder name.
+    pub(crate) folder: String,
+    /// The run folder.
+    pub(crate) dir: PathBuf,
+    /// The parameters passed with `--set`.
+    pub(crate) values: Vec<(String, ParamValue)>,
     /// The script's parameters with this case's values.
-    expected: Vec<(String, ParamValue)>,
+    pub(crate) expected: Vec<(String, ParamValue)>,
+}
+
+impl Planned {
+    /// A case run in `parent/folder` with `values` set over the script's `declared` defaults.
+    pub(crate) fn new(
+        folder: String,
+        parent: &Path,
+        values: Vec<(String, ParamValue)>,
+        declared: &[slosh_script::ParamDecl],
+    ) -> Planned {
+        let expected = declared
+            .iter()
+            .map(|p| {
+                let v = values
+                    .iter()
+                    .find(|(n, _)| *n == p.name)
+                    .map_or_else(|| p.default.clone(), |(_, v)| v.clone());
+                (p.name.clone(), v)
+            })
+            .collect();
+        Planned {
+            dir: parent.join(&folder),
+            folder,
+            values,
+            expected,
+        }
+    }
 }
 
 /// The result of one case: its outcome and, when readable, its summary.
-struct Done {
-    outcome: CaseOutcome,
+pub(crate) struct Done {
+    /// How it ended.
+    pub(crate) outcome: CaseOutcome,
     summary: Option<ReadSummary>,
 }
 
@@ -606,117 +639,12 @@ pub fn cli_sweep_reading(
             );
         }
         folders.insert(folder.clone(), k);
-        let expected = declared
-            .iter()
-            .map(|p| {
-                let v = values
-                    .iter()
-                    .find(|(n, _)| *n == p.name)
-                    .map_or_else(|| p.default.clone(), |(_, v)| v.clone());
-                (p.name.clone(), v)
-            })
-            .collect();
-        planned.push(Planned {
-            dir: out_dir.join(&folder),
-            folder,
-            values,
-            expected,
-        });
+        planned.push(Planned::new(folder, &out_dir, values, &declared));
     }
 
-    // Resume: cases already completed with these parameters are not run again.
-    let mut results: Vec<Option<Done>> = Vec::with_capacity(total);
-    let mut to_run = Vec::new();
-    for (k, p) in planned.iter().enumerate() {
-        let done = read_summary(&p.dir.join("summary.ron"))
-            .ok()
-            .filter(|s| s.completed() && same_parameters(&s.head, &p.expected, &p.values));
-        match done {
-            Some(s) => results.push(Some(Done {
-                outcome: CaseOutcome {
-                    folder: p.folder.clone(),
-                    values: p.values.clone(),
-                    status: CaseStatus::Skipped,
-                    error: None,
-                    wall_time_s: s.wall_time(),
-                },
-                summary: Some(s),
-            })),
-            None => {
-                results.push(None);
-                to_run.push(k);
-            }
-        }
-    }
-
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let jobs = if jobs == 0 { cores } else { jobs }
-        .min(to_run.len())
-        .max(1);
-    let threads = (cores / jobs).max(1);
-    if !quiet {
-        eprintln!(
-            "sweep: {total} cases into {}: {} to run ({} done before), {jobs} at a time with {threads} thread{} each",
-            out_dir.display(),
-            to_run.len(),
-            total - to_run.len(),
-            if threads == 1 { "" } else { "s" }
-        );
-    }
-
-    let results = Mutex::new(results);
-    let next = AtomicUsize::new(0);
-    let finished = AtomicUsize::new(0);
-    std::thread::scope(|scope| {
-        for _ in 0..jobs {
-            scope.spawn(|| loop {
-                if crate::interrupt::received().is_some() {
-                    break;
-                }
-                let i = next.fetch_add(1, Ordering::SeqCst);
-                let Some(&k) = to_run.get(i) else { break };
-                let p = &planned[k];
-                let done = run_one(exe, case, p, threads, allow_read);
-                let n = finished.fetch_add(1, Ordering::SeqCst) + 1;
-                let o = &done.outcome;
-                if o.status == CaseStatus::Failed {
-                    eprintln!(
-                        "sweep: case {} failed: {} (log: {})",
-                        o.folder,
-                        o.error.as_deref().unwrap_or("unknown error"),
-                        p.dir.join("run.log").display()
-                    );
-                } else if !quiet {
-                    eprintln!(
-                        "sweep: [{n}/{}] {} completed in {:.1} s",
-                        to_run.len(),
-                        o.folder,
-                        o.wall_time_s
-                    );
-                }
-                results.lock().expect("sweep results")[k] = Some(done);
-            });
-        }
-    });
-    // Cases a signal kept from starting.
-    let results: Vec<Done> = results
-        .into_inner()
-        .expect("sweep results")
-        .into_iter()
-        .zip(&planned)
-        .map(|(d, p)| {
-            d.unwrap_or_else(|| Done {
-                outcome: CaseOutcome {
-                    folder: p.folder.clone(),
-                    values: p.values.clone(),
-                    status: CaseStatus::Interrupted,
-                    error: Some("not started: the sweep was interrupted".into()),
-                    wall_time_s: 0.0,
-                },
-                summary: None,
-            })
-        })
-        .collect();
+    let results = run_planned(
+        exe, case, &planned, &out_dir, jobs, quiet, allow_read, "sweep",
+    );
 
     let csv = out_dir.join("sweep.csv");
     write_table(&csv, &typed, &results)?;
@@ -744,6 +672,123 @@ pub fn cli_sweep_reading(
         );
     }
     Ok(outcome)
+}
+
+/// The summary of a case completed before with the same parameters, if its folder holds one.
+pub(crate) fn done_before(p: &Planned) -> Option<ReadSummary> {
+    read_summary(&p.dir.join("summary.ron"))
+        .ok()
+        .filter(|s| s.completed() && same_parameters(&s.head, &p.expected, &p.values))
+}
+
+/// Runs the planned cases of a sweep or an assessment (`what` names it in messages), at most
+/// `jobs` at once (0: one per core), each as a child `slosh run`; a case whose folder already
+/// holds a completed summary with the same parameters is not run again. Returns one result
+/// per planned case, in order; cases a SIGINT/SIGTERM kept from starting are `Interrupted`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run_planned(
+    exe: &Path,
+    case: &Path,
+    planned: &[Planned],
+    out_dir: &Path,
+    jobs: usize,
+    quiet: bool,
+    allow_read: &[PathBuf],
+    what: &str,
+) -> Vec<Done> {
+    let total = planned.len();
+    // Resume: cases already completed with these parameters are not run again.
+    let mut results: Vec<Option<Done>> = Vec::with_capacity(total);
+    let mut to_run = Vec::new();
+    for (k, p) in planned.iter().enumerate() {
+        match done_before(p) {
+            Some(s) => results.push(Some(Done {
+                outcome: CaseOutcome {
+                    folder: p.folder.clone(),
+                    values: p.values.clone(),
+                    status: CaseStatus::Skipped,
+                    error: None,
+                    wall_time_s: s.wall_time(),
+                },
+                summary: Some(s),
+            })),
+            None => {
+                results.push(None);
+                to_run.push(k);
+            }
+        }
+    }
+
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let jobs = if jobs == 0 { cores } else { jobs }
+        .min(to_run.len())
+        .max(1);
+    let threads = (cores / jobs).max(1);
+    if !quiet {
+        eprintln!(
+            "{what}: {total} case{} into {}: {} to run ({} done before), {jobs} at a time with {threads} thread{} each",
+            if total == 1 { "" } else { "s" },
+            out_dir.display(),
+            to_run.len(),
+            total - to_run.len(),
+            if threads == 1 { "" } else { "s" }
+        );
+    }
+
+    let results = Mutex::new(results);
+    let next = AtomicUsize::new(0);
+    let finished = AtomicUsize::new(0);
+    std::thread::scope(|scope| {
+        for _ in 0..jobs {
+            scope.spawn(|| loop {
+                if crate::interrupt::received().is_some() {
+                    break;
+                }
+                let i = next.fetch_add(1, Ordering::SeqCst);
+                let Some(&k) = to_run.get(i) else { break };
+                let p = &planned[k];
+                let done = run_one(exe, case, p, threads, allow_read);
+                let n = finished.fetch_add(1, Ordering::SeqCst) + 1;
+                let o = &done.outcome;
+                if o.status == CaseStatus::Failed {
+                    eprintln!(
+                        "{what}: case {} failed: {} (log: {})",
+                        o.folder,
+                        o.error.as_deref().unwrap_or("unknown error"),
+                        p.dir.join("run.log").display()
+                    );
+                } else if !quiet {
+                    eprintln!(
+                        "{what}: [{n}/{}] {} completed in {:.1} s",
+                        to_run.len(),
+                        o.folder,
+                        o.wall_time_s
+                    );
+                }
+                results.lock().expect("case results")[k] = Some(done);
+            });
+        }
+    });
+    // Cases a signal kept from starting.
+    let results: Vec<Done> = results
+        .into_inner()
+        .expect("case results")
+        .into_iter()
+        .zip(planned)
+        .map(|(d, p)| {
+            d.unwrap_or_else(|| Done {
+                outcome: CaseOutcome {
+                    folder: p.folder.clone(),
+                    values: p.values.clone(),
+                    status: CaseStatus::Interrupted,
+                    error: Some(format!("not started: the {what} was interrupted")),
+                    wall_time_s: 0.0,
+                },
+                summary: None,
+            })
+        })
+        .collect();
+    results
 }
 
 fn fmt_values(values: &[(String, ParamValue)]) -> String {
@@ -877,7 +922,7 @@ fn run_one(exe: &Path, case: &Path, p: &Planned, threads: usize, allow_read: &[P
 }
 
 /// The error paragraph of a `slosh run` log (after `error: `, or a panic message), on one line.
-fn error_message(log: &str) -> Option<String> {
+pub(crate) fn error_message(log: &str) -> Option<String> {
     let start = log
         .rfind("error: ")
         .map(|i| i + "error: ".len())
