@@ -26,6 +26,9 @@ enum Command {
     /// Run a case over the cartesian product of parameter values (parallel, resumable) into
     /// one sub-folder per case plus sweep.csv.
     Sweep(SweepArgs),
+    /// Assess a tank under a suite of ground motions (one run per motion, locally or as a
+    /// Slurm job array); writes DIR/assessment.md, assessment.csv and plots.
+    Assess(slosh_cli::assess::cli::AssessArgs),
     /// Closed-form numbers for a tank (natural periods, masses, Housner, code wave height).
     Theory(TheoryArgs),
     /// Run the validation suite; writes DIR/report.md and plots; exit code 1 on any FAIL.
@@ -216,7 +219,10 @@ fn x86_64_v3_supported() -> bool {
 fn main() -> ExitCode {
     exit_unless_cpu_supports_build();
     let cli = parse_command_line();
-    if matches!(cli.command, Command::Run(_) | Command::Sweep(_)) {
+    if matches!(
+        cli.command,
+        Command::Run(_) | Command::Sweep(_) | Command::Assess(_)
+    ) {
         if let Err(e) = slosh_cli::interrupt::install() {
             eprintln!("warning: SIGINT/SIGTERM handlers not installed ({e}): a signal ends the run at once");
         }
@@ -224,6 +230,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(args) => cmd_run(args),
         Command::Sweep(args) => cmd_sweep(args),
+        Command::Assess(args) => parse_sets(&args.set)
+            .and_then(|sets| slosh_cli::assess::cli::cli_assess(args, sets.overrides)),
         Command::Theory(args) => cmd_theory(args),
         Command::Bench(args) => {
             slosh_cli::bench::cli_bench(args.quick, args.out, args.threads, args.case, &args.scheme)
