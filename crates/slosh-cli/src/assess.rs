@@ -310,14 +310,16 @@ pub fn collect(out_dir: &Path) -> Result<report::Collected> {
     report::write_report(&manifest, out_dir, &plans)
 }
 
-/// Writes `DIR/assess.sbatch` for the assessment in `out_dir`; returns its path and the
-/// `sbatch` command that submits it.
+/// Writes `DIR/assess.sbatch` for the assessment in `out_dir`, then submits it or prints
+/// the `sbatch` command (see [`crate::slurm::write_and_submit`]).
 pub fn write_slurm_job(
     exe: &Path,
     manifest: &Manifest,
     out_dir: &Path,
     options: &SlurmOptions,
-) -> Result<(PathBuf, String)> {
+    submit: bool,
+    collect: &str,
+) -> Result<()> {
     let out_abs = std::path::absolute(out_dir)
         .with_context(|| format!("cannot resolve {}", out_dir.display()))?;
     let stem = manifest
@@ -335,7 +337,5 @@ pub fn write_slurm_job(
         ],
         log_dir: out_abs.join("slurm"),
     };
-    let path = out_abs.join(BATCH_SCRIPT);
-    let command = crate::slurm::write_batch_script(&path, &job, options)?;
-    Ok((path, command))
+    crate::slurm::write_and_submit(&out_abs.join(BATCH_SCRIPT), &job, options, submit, collect)
 }

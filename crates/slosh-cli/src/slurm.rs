@@ -6,6 +6,7 @@
 //! task runs its case again unless its run folder already holds the completed result.
 
 use anyhow::{bail, Context, Result};
+use clap::Args;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -40,6 +41,38 @@ impl SlurmOptions {
             bail!("--cpus-per-task must be at least 1");
         }
         Ok(())
+    }
+}
+
+/// The `--slurm` options of `slosh assess` and `slosh sweep`.
+#[derive(Args, Clone, Debug, Default)]
+pub struct SlurmArgs {
+    /// Write a Slurm job array with one task per run into the output folder instead of
+    /// running here, and print the sbatch command.
+    #[arg(long)]
+    pub slurm: bool,
+    /// Slurm partition of the array tasks.
+    #[arg(long, requires = "slurm")]
+    pub partition: Option<String>,
+    /// Time limit of each array task.
+    #[arg(long, requires = "slurm", value_name = "HH:MM:SS")]
+    pub time: Option<String>,
+    /// CPUs of each array task (the run's threads).
+    #[arg(long, requires = "slurm", value_name = "N")]
+    pub cpus_per_task: Option<usize>,
+    /// Submit the job array with sbatch after writing it.
+    #[arg(long, requires = "slurm")]
+    pub submit: bool,
+}
+
+impl SlurmArgs {
+    /// The `#SBATCH` options.
+    pub fn options(&self) -> SlurmOptions {
+        SlurmOptions {
+            partition: self.partition.clone(),
+            time: self.time.clone(),
+            cpus_per_task: self.cpus_per_task,
+        }
     }
 }
 
@@ -138,6 +171,41 @@ pub fn write_batch_script(path: &Path, job: &JobArray, options: &SlurmOptions) -
         "sbatch {}",
         shell_quote(&path.display().to_string())
     ))
+}
+
+/// Writes the batch script of `job` to `path`, then submits it when `submit` (printing the
+/// job id as `submitted: job ID`) or prints the `sbatch` command; `collect` is the command
+/// that gathers the results once the job has ended.
+pub fn write_and_submit(
+    path: &Path,
+    job: &JobArray,
+    options: &SlurmOptions,
+    submit: bool,
+    collect: &str,
+) -> Result<()> {
+    let command = write_batch_script(path, job, options)?;
+    println!(
+        "wrote {} ({} array task{}, one per run)",
+        path.display(),
+        job.tasks,
+        if job.tasks == 1 { "" } else { "s" }
+    );
+    if submit {
+        println!("submitted: job {}", self::submit(path)?);
+    } else {
+        println!("submit with: {command}");
+    }
+    println!("when the job has ended: {collect}");
+    Ok(())
+}
+
+/// The words of a command line as one line a POSIX shell reads back.
+pub fn command_line(words: &[String]) -> String {
+    words
+        .iter()
+        .map(|w| shell_quote(w))
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// Submits a batch script with `sbatch --parsable` and returns the job id.

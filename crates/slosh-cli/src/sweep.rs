@@ -48,6 +48,8 @@ pub enum CaseStatus {
     Failed,
     /// Stopped by SIGINT/SIGTERM (while running, or not started): run the sweep again.
     Interrupted,
+    /// Not run yet (`--collect` of a sweep run as a Slurm job array).
+    Missing,
 }
 
 impl CaseStatus {
@@ -57,6 +59,7 @@ impl CaseStatus {
             CaseStatus::Completed | CaseStatus::Skipped => "completed",
             CaseStatus::Failed => "failed",
             CaseStatus::Interrupted => "interrupted",
+            CaseStatus::Missing => "missing",
         }
     }
 }
@@ -68,6 +71,7 @@ impl fmt::Display for CaseStatus {
             CaseStatus::Skipped => "skipped (done before)",
             CaseStatus::Failed => "failed",
             CaseStatus::Interrupted => "interrupted",
+            CaseStatus::Missing => "missing (not run yet)",
         })
     }
 }
@@ -538,6 +542,51 @@ pub fn cli_sweep_reading(
     quiet: bool,
     allow_read: &[PathBuf],
 ) -> Result<SweepOutcome> {
+    cli_sweep_as(
+        exe,
+        case,
+        vary,
+        out,
+        jobs,
+        quiet,
+        allow_read,
+        &SweepMode::Run,
+    )
+}
+
+/// What `slosh sweep` does with its cases.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SweepMode {
+    /// Run them here and write `sweep.csv`.
+    Run,
+    /// Write `DIR/sweep.sbatch`, a Slurm job array with one task per case whose command is
+    /// this sweep's with `--task $SLURM_ARRAY_TASK_ID`; submit it with `sbatch` when `submit`.
+    Slurm {
+        /// The `#SBATCH` options.
+        options: crate::slurm::SlurmOptions,
+        /// Run `sbatch` after writing.
+        submit: bool,
+    },
+    /// Run case I only (an array task; `None`: `$SLURM_ARRAY_TASK_ID`); `sweep.csv` is left
+    /// to `Collect`.
+    Task(Option<usize>),
+    /// Write `sweep.csv` from the cases finished so far (the others `missing` or `failed`).
+    Collect,
+}
+
+/// [`cli_sweep_reading`] in one of the [`SweepMode`]s. The outcome of `Slurm` has no cases,
+/// that of `Task` the one case run.
+#[allow(clippy::too_many_arguments)]
+pub fn cli_sweep_as(
+    exe: &Path,
+    case: &Path,
+    vary: &[String],
+    out: Option<PathBuf>,
+    jobs: usize,
+    quiet: bool,
+    allow_read: &[PathBuf],
+    mode: &SweepMode,
+) -> Result<SweepOutcome> {
     let read_options = CaseOptions {
         allow_read: allow_read.to_vec(),
         ..CaseOptions::default()
@@ -642,11 +691,57 @@ pub fn cli_sweep_reading(
         planned.push(Planned::new(folder, &out_dir, values, &declared));
     }
 
-    let results = run_planned(
-        exe, case, &planned, &out_dir, jobs, quiet, allow_read, "sweep",
-    );
-
     let csv = out_dir.join("sweep.csv");
+    let results = match mode {
+        SweepMode::Run => run_planned(
+            exe, case, &planned, &out_dir, jobs, quiet, allow_read, "sweep",
+        ),
+        SweepMode::Collect => planned.iter().map(collected_case).collect(),
+        SweepMode::Slurm { options, submit } => {
+            write_sweep_job(
+                exe,
+                case,
+                vary,
+                &out_dir,
+                allow_read,
+                planned.len(),
+                options,
+                *submit,
+            )?;
+            return Ok(SweepOutcome {
+                out_dir,
+                csv,
+                cases: Vec::new(),
+            });
+        }
+        SweepMode::Task(index) => {
+            let i = crate::slurm::task_index(*index)?;
+            if i >= planned.len() {
+                bail!(
+                    "task {i}: the sweep has {} cases (tasks 0 to {})",
+                    planned.len(),
+                    planned.len().saturating_sub(1)
+                );
+            }
+            let done = run_planned(
+                exe,
+                case,
+                &planned[i..=i],
+                &out_dir,
+                1,
+                quiet,
+                allow_read,
+                "sweep",
+            );
+            let cases = done.into_iter().map(|d| d.outcome).collect();
+            return Ok(SweepOutcome {
+                out_dir,
+                csv,
+                cases,
+            });
+        }
+    };
+
     write_table(&csv, &typed, &results)?;
     let cases: Vec<CaseOutcome> = results.into_iter().map(|d| d.outcome).collect();
     let outcome = SweepOutcome {
@@ -672,6 +767,87 @@ pub fn cli_sweep_reading(
         );
     }
     Ok(outcome)
+}
+
+/// A case as `--collect` finds it: completed (with the same parameters), failed, or missing.
+fn collected_case(p: &Planned) -> Done {
+    let outcome = |status, error: Option<String>, wall_time_s| CaseOutcome {
+        folder: p.folder.clone(),
+        values: p.values.clone(),
+        status,
+        error,
+        wall_time_s,
+    };
+    if let Some(s) = done_before(p) {
+        return Done {
+            outcome: outcome(CaseStatus::Skipped, None, s.wall_time()),
+            summary: Some(s),
+        };
+    }
+    match read_summary(&p.dir.join("summary.ron")) {
+        Ok(s) if s.head.status == "failed" || s.head.status == "interrupted" => {
+            let log = std::fs::read_to_string(p.dir.join("run.log")).unwrap_or_default();
+            let error = s.head.error.clone().or_else(|| error_message(&log));
+            Done {
+                outcome: outcome(CaseStatus::Failed, error, s.wall_time()),
+                summary: Some(s),
+            }
+        }
+        _ => Done {
+            outcome: outcome(CaseStatus::Missing, Some("not run yet".into()), f64::NAN),
+            summary: None,
+        },
+    }
+}
+
+/// Writes `DIR/sweep.sbatch`: one array task per case, each running this sweep's command
+/// with `--task $SLURM_ARRAY_TASK_ID`.
+#[allow(clippy::too_many_arguments)]
+fn write_sweep_job(
+    exe: &Path,
+    case: &Path,
+    vary: &[String],
+    out_dir: &Path,
+    allow_read: &[PathBuf],
+    cases: usize,
+    options: &crate::slurm::SlurmOptions,
+    submit: bool,
+) -> Result<()> {
+    let absolute = |p: &Path| -> Result<String> {
+        Ok(std::path::absolute(p)
+            .with_context(|| format!("cannot resolve {}", p.display()))?
+            .display()
+            .to_string())
+    };
+    let out_abs = absolute(out_dir)?;
+    let mut args = vec!["sweep".to_string(), absolute(case)?];
+    for v in vary {
+        args.extend(["--vary".to_string(), v.clone()]);
+    }
+    args.extend(["--out".to_string(), out_abs.clone()]);
+    for dir in allow_read {
+        args.extend(["--allow-read".to_string(), absolute(dir)?]);
+    }
+    let stem = case
+        .file_stem()
+        .map_or("case".into(), |s| s.to_string_lossy().into_owned());
+    let job = crate::slurm::JobArray {
+        job_name: format!("slosh-sweep-{}", folder_safe(&stem)),
+        tasks: cases,
+        exe: std::path::absolute(exe)?,
+        task_args: args.clone(),
+        log_dir: Path::new(&out_abs).join("slurm"),
+    };
+    let mut collect = vec![job.exe.display().to_string()];
+    collect.extend(args);
+    collect.push("--collect".into());
+    crate::slurm::write_and_submit(
+        &Path::new(&out_abs).join("sweep.sbatch"),
+        &job,
+        options,
+        submit,
+        &crate::slurm::command_line(&collect),
+    )
 }
 
 /// The summary of a case completed before with the same parameters, if its folder holds one.

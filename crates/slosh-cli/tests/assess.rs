@@ -46,21 +46,32 @@ fn text(o: &Output) -> String {
     )
 }
 
-/// The rows of a CSV table without quoting (the assessment's numbers need none) and without
-/// the `wall_time_s` column.
-fn table_without_wall_time(path: &Path) -> Vec<Vec<String>> {
+/// The rows of a CSV table (the numbers need no quoting) without the columns that depend
+/// on the wall clock or the thread count: `wall_time_s`, `particle_steps_per_s`,
+/// `fluid_particle_steps_per_s` and `threads`.
+fn table_without_timing(path: &Path) -> Vec<Vec<String>> {
+    const TIMING: [&str; 4] = [
+        "wall_time_s",
+        "particle_steps_per_s",
+        "fluid_particle_steps_per_s",
+        "threads",
+    ];
     let text = std::fs::read_to_string(path).unwrap();
     let rows: Vec<Vec<String>> = text
         .lines()
         .map(|l| l.split(',').map(str::to_string).collect())
         .collect();
-    let skip = rows[0].iter().position(|c| c == "wall_time_s").unwrap();
+    assert!(rows[0].iter().any(|c| c == "wall_time_s"), "{:?}", rows[0]);
+    let keep: Vec<bool> = rows[0]
+        .iter()
+        .map(|c| !TIMING.contains(&c.as_str()))
+        .collect();
     rows.into_iter()
         .map(|r| {
             r.into_iter()
-                .enumerate()
-                .filter(|(j, _)| *j != skip)
-                .map(|(_, c)| c)
+                .zip(&keep)
+                .filter(|(_, k)| **k)
+                .map(|(c, _)| c)
                 .collect()
         })
         .collect()
@@ -91,7 +102,7 @@ fn local_assessment_reports_resumes_and_equals_task_by_task() {
     let out = text(&o);
     assert!(out.contains("Freeboard 0.06"), "{out}");
 
-    let rows = table_without_wall_time(&local.join("assessment.csv"));
+    let rows = table_without_timing(&local.join("assessment.csv"));
     let header = &rows[0];
     assert_eq!(rows.len(), 4, "{rows:?}");
     let col = |name: &str| header.iter().position(|c| c == name).unwrap();
@@ -186,8 +197,8 @@ fn local_assessment_reports_resumes_and_equals_task_by_task() {
     let o = slosh(&["assess", "--collect", "--out", tasks_s]);
     assert!(o.status.success(), "{}", text(&o));
     assert_eq!(
-        table_without_wall_time(&local.join("assessment.csv")),
-        table_without_wall_time(&tasks.join("assessment.csv"))
+        table_without_timing(&local.join("assessment.csv")),
+        table_without_timing(&tasks.join("assessment.csv"))
     );
     assert_eq!(
         report,
@@ -269,4 +280,57 @@ fn bad_suites_and_arguments_are_refused_with_file_and_line() {
         .output()
         .unwrap();
     assert!(text(&o).contains("SLURM_ARRAY_TASK_ID"), "{}", text(&o));
+}
+
+#[test]
+fn sweep_as_array_tasks_gives_the_local_sweep_table() {
+    let dir = temp("sweep");
+    let case = small_case(&dir);
+    let case_s = case.to_str().unwrap();
+    let sweep = |out: &Path, extra: &[&str]| {
+        let mut args = vec![
+            "sweep",
+            case_s,
+            "--vary",
+            "amp=0.5,2",
+            "--vary",
+            "period=0.5,0.75",
+        ];
+        args.extend(["--out", out.to_str().unwrap()]);
+        args.extend(extra);
+        slosh(&args)
+    };
+    let local = dir.join("local");
+    let o = sweep(&local, &["--jobs", "2", "--quiet"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let tasks = dir.join("tasks");
+    let o = sweep(&tasks, &["--slurm", "--cpus-per-task", "2"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let batch = std::fs::read_to_string(tasks.join("sweep.sbatch")).unwrap();
+    assert!(batch.contains("#SBATCH --array=0-3\n"), "{batch}");
+    assert!(
+        batch.contains("--vary amp=0.5,2 --vary period=0.5,0.75"),
+        "{batch}"
+    );
+    for i in ["3", "0"] {
+        let o = sweep(&tasks, &["--task", i]);
+        assert!(o.status.success(), "{}", text(&o));
+    }
+    let o = sweep(&tasks, &["--collect"]);
+    assert!(!o.status.success());
+    assert!(
+        text(&o).contains("2 of 4 cases have not run yet"),
+        "{}",
+        text(&o)
+    );
+    for i in ["1", "2"] {
+        let o = sweep(&tasks, &["--task", i]);
+        assert!(o.status.success(), "{}", text(&o));
+    }
+    let o = sweep(&tasks, &["--collect"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(
+        table_without_timing(&local.join("sweep.csv")),
+        table_without_timing(&tasks.join("sweep.csv"))
+    );
 }

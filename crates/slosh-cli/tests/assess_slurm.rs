@@ -1,6 +1,7 @@
 //! `slosh assess --slurm` on a real Slurm: a single-node cluster (munged, slurmctld, slurmd)
 //! started in a temporary folder, a 3-motion 2D suite submitted as a job array, collected,
-//! and its report compared with the one `slosh assess --jobs 2` writes locally.
+//! and its report compared with the one `slosh assess --jobs 2` writes locally; the same for
+//! a 2-case `slosh sweep --slurm` and its `sweep.csv`.
 //!
 //! Needs Debian's `slurm-wlm` and `munge` and root (the daemons run as root, without
 //! systemd); `.ci/run` installs them. Without them the test fails saying so, unless
@@ -263,20 +264,32 @@ fn text(o: &Output) -> String {
     )
 }
 
-/// `assessment.csv` without its `wall_time_s` column.
-fn table_without_wall_time(path: &Path) -> Vec<Vec<String>> {
+/// The rows of a CSV table (the numbers need no quoting) without the columns that depend
+/// on the wall clock or the thread count: `wall_time_s`, `particle_steps_per_s`,
+/// `fluid_particle_steps_per_s` and `threads`.
+fn table_without_timing(path: &Path) -> Vec<Vec<String>> {
+    const TIMING: [&str; 4] = [
+        "wall_time_s",
+        "particle_steps_per_s",
+        "fluid_particle_steps_per_s",
+        "threads",
+    ];
     let text = std::fs::read_to_string(path).unwrap();
     let rows: Vec<Vec<String>> = text
         .lines()
         .map(|l| l.split(',').map(str::to_string).collect())
         .collect();
-    let skip = rows[0].iter().position(|c| c == "wall_time_s").unwrap();
+    assert!(rows[0].iter().any(|c| c == "wall_time_s"), "{:?}", rows[0]);
+    let keep: Vec<bool> = rows[0]
+        .iter()
+        .map(|c| !TIMING.contains(&c.as_str()))
+        .collect();
     rows.into_iter()
         .map(|r| {
             r.into_iter()
-                .enumerate()
-                .filter(|(j, _)| *j != skip)
-                .map(|(_, c)| c)
+                .zip(&keep)
+                .filter(|(_, k)| **k)
+                .map(|(c, _)| c)
                 .collect()
         })
         .collect()
@@ -373,17 +386,54 @@ fn slurm_job_array_gives_the_local_report() {
         })
         .unwrap_or_else(|| panic!("no job id in {}", text(&o)));
 
-    // The local run while the array runs.
+    // `slosh sweep --slurm`: two short cases of the same tank.
+    let sweep = |out: &Path, extra: &[&str]| -> Output {
+        let mut args: Vec<String> = ["sweep", case.to_str().unwrap()].map(String::from).to_vec();
+        for v in [
+            "pga=2,4",
+            "dx=0.1",
+            "dt=0.0005",
+            "settle=0.5",
+            "duration=1.5",
+            "frame_interval=0",
+        ] {
+            args.extend(["--vary".to_string(), v.to_string()]);
+        }
+        args.extend(["--out".to_string(), out.to_str().unwrap().to_string()]);
+        args.extend(extra.iter().map(|s| s.to_string()));
+        Command::new(exe())
+            .args(&args)
+            .env("SLURM_CONF", &cluster.conf)
+            .output()
+            .unwrap()
+    };
+    let sweep_on_slurm = dir.join("sweep-slurm");
+    let o = sweep(&sweep_on_slurm, &["--slurm", "--submit"]);
+    assert!(o.status.success(), "{}\n{}", text(&o), cluster.logs());
+    let sweep_job = text(&o)
+        .lines()
+        .find_map(|l| {
+            l.strip_prefix("submitted: job ")
+                .map(|s| s.trim().to_string())
+        })
+        .unwrap_or_else(|| panic!("no job id in {}", text(&o)));
+
+    // The local runs while the arrays run.
     let local = dir.join("local");
     let mut args = common(&local);
     args.extend(["--jobs", "2", "--quiet"].map(String::from));
     let o = Command::new(exe()).args(&args).output().unwrap();
     assert!(o.status.success(), "{}", text(&o));
 
+    let sweep_local = dir.join("sweep-local");
+    let o = sweep(&sweep_local, &["--jobs", "2", "--quiet"]);
+    assert!(o.status.success(), "{}", text(&o));
+
     let wait = Instant::now();
+    let jobs = format!("{job},{sweep_job}");
     loop {
         let q = cluster_command("squeue", &cluster.conf)
-            .args(["-h", "-j", &job])
+            .args(["-h", "-j", &jobs])
             .output()
             .unwrap();
         if q.status.success() && String::from_utf8_lossy(&q.stdout).trim().is_empty() {
@@ -391,7 +441,7 @@ fn slurm_job_array_gives_the_local_report() {
         }
         assert!(
             wait.elapsed() < Duration::from_secs(150),
-            "job {job} still queued after 150 s: {}\n{}",
+            "jobs {jobs} still queued after 150 s: {}\n{}",
             text(&q),
             cluster.logs()
         );
@@ -425,7 +475,7 @@ fn slurm_job_array_gives_the_local_report() {
         task_logs()
     );
 
-    let slurm_rows = table_without_wall_time(&on_slurm.join("assessment.csv"));
+    let slurm_rows = table_without_timing(&on_slurm.join("assessment.csv"));
     assert_eq!(slurm_rows.len(), 4);
     let status = slurm_rows[0].iter().position(|c| c == "status").unwrap();
     assert!(
@@ -434,11 +484,17 @@ fn slurm_job_array_gives_the_local_report() {
     );
     assert_eq!(
         slurm_rows,
-        table_without_wall_time(&local.join("assessment.csv"))
+        table_without_timing(&local.join("assessment.csv"))
     );
     assert_eq!(
         std::fs::read_to_string(on_slurm.join("assessment.md")).unwrap(),
         std::fs::read_to_string(local.join("assessment.md")).unwrap()
+    );
+    let o = sweep(&sweep_on_slurm, &["--collect", "--quiet"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(
+        table_without_timing(&sweep_on_slurm.join("sweep.csv")),
+        table_without_timing(&sweep_local.join("sweep.csv"))
     );
     drop(cluster);
     eprintln!(

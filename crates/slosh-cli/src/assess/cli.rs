@@ -1,7 +1,7 @@
 //! The `slosh assess` command line.
 
 use super::{collect, prepare, run_local, run_task, write_slurm_job, AssessRequest};
-use crate::slurm::SlurmOptions;
+use crate::slurm::SlurmArgs;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use slosh_script::ParamValue;
@@ -32,22 +32,9 @@ pub struct AssessArgs {
     /// Report failures only: no progress lines.
     #[arg(long)]
     pub quiet: bool,
-    /// Write DIR/assess.sbatch, a Slurm job array with one task per motion, instead of
-    /// running the motions here.
-    #[arg(long)]
-    pub slurm: bool,
-    /// Slurm partition of the array tasks.
-    #[arg(long, requires = "slurm")]
-    pub partition: Option<String>,
-    /// Time limit of each array task.
-    #[arg(long, requires = "slurm", value_name = "HH:MM:SS")]
-    pub time: Option<String>,
-    /// CPUs of each array task (the run's threads).
-    #[arg(long, requires = "slurm", value_name = "N")]
-    pub cpus_per_task: Option<usize>,
-    /// Submit the job array with sbatch after writing it.
-    #[arg(long, requires = "slurm")]
-    pub submit: bool,
+    /// Slurm: write DIR/assess.sbatch (one array task per motion) and the manifest it reads.
+    #[command(flatten)]
+    pub slurm: SlurmArgs,
     /// Run one motion of the assessment in --out DIR: task I (default: $SLURM_ARRAY_TASK_ID).
     #[arg(long, value_name = "I", num_args = 0..=1,
           conflicts_with_all = ["case", "motions", "slurm", "collect", "set"])]
@@ -81,12 +68,8 @@ pub fn cli_assess(args: AssessArgs, overrides: Vec<(String, ParamValue)>) -> Res
              SUITE.csv [--out DIR]; or --task I --out DIR, or --collect --out DIR"
         );
     };
-    let slurm = SlurmOptions {
-        partition: args.partition,
-        time: args.time,
-        cpus_per_task: args.cpus_per_task,
-    };
-    if args.slurm {
+    let slurm = args.slurm.options();
+    if args.slurm.slurm {
         slurm.check()?;
     }
     let (manifest, out_dir) = prepare(&AssessRequest {
@@ -96,25 +79,22 @@ pub fn cli_assess(args: AssessArgs, overrides: Vec<(String, ParamValue)>) -> Res
         overrides,
         allow_read: args.allow_read,
     })?;
-    if args.slurm {
-        let (script, command) = write_slurm_job(&exe, &manifest, &out_dir, &slurm)?;
-        println!(
-            "wrote {} ({} array tasks, one per motion) and the manifest {}",
-            script.display(),
-            manifest.motions.len(),
-            out_dir.join(super::MANIFEST).display()
-        );
-        if args.submit {
-            let id = crate::slurm::submit(&script)?;
-            println!("submitted: job {id}");
-        } else {
-            println!("submit with: {command}");
-        }
-        println!(
-            "when the job has ended: {} assess --collect --out {}",
-            exe.display(),
-            out_dir.display()
-        );
+    if args.slurm.slurm {
+        let collect = crate::slurm::command_line(&[
+            exe.display().to_string(),
+            "assess".into(),
+            "--collect".into(),
+            "--out".into(),
+            out_dir.display().to_string(),
+        ]);
+        write_slurm_job(
+            &exe,
+            &manifest,
+            &out_dir,
+            &slurm,
+            args.slurm.submit,
+            &collect,
+        )?;
         return Ok(());
     }
     let collected = run_local(&exe, &manifest, &out_dir, args.jobs, args.quiet)?;

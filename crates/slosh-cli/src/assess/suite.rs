@@ -50,7 +50,7 @@ fn parse_csv(text: &str, source: &str) -> Result<Vec<RawRow>> {
         .from_reader(text.as_bytes());
     let header: Vec<String> = reader
         .headers()
-        .map_err(|e| anyhow::anyhow!("{source}: {}", csv_error(&e)))?
+        .map_err(|e| anyhow::anyhow!(csv_error(&e, source)))?
         .iter()
         .map(str::to_string)
         .collect();
@@ -71,7 +71,7 @@ fn parse_csv(text: &str, source: &str) -> Result<Vec<RawRow>> {
     }
     let mut rows = Vec::new();
     for record in reader.records() {
-        let record = record.map_err(|e| anyhow::anyhow!("{source}: {}", csv_error(&e)))?;
+        let record = record.map_err(|e| anyhow::anyhow!(csv_error(&e, source)))?;
         let line = record.position().map_or(0, |p| p.line() as usize);
         let values = header
             .iter()
@@ -91,18 +91,21 @@ fn parse_csv(text: &str, source: &str) -> Result<Vec<RawRow>> {
     Ok(rows)
 }
 
-/// A CSV error as "line N: what" where the csv crate knows the line.
-fn csv_error(e: &csv::Error) -> String {
+/// A CSV error as `source:line: what` where the csv crate knows the line.
+fn csv_error(e: &csv::Error, source: &str) -> String {
     match e.kind() {
         csv::ErrorKind::UnequalLengths {
             pos: Some(pos),
             expected_len,
             len,
         } => format!(
-            "{}: {len} cells where the header has {expected_len}",
+            "{source}:{}: {len} cells where the header has {expected_len}",
             pos.line()
         ),
-        _ => e.to_string(),
+        _ => match e.position() {
+            Some(pos) => format!("{source}:{}: {e}", pos.line()),
+            None => format!("{source}: {e}"),
+        },
     }
 }
 
@@ -245,6 +248,8 @@ fn typed_rows(raw: Vec<RawRow>, declared: &[ParamDecl], source: &str) -> Result<
                 .map_err(|e| anyhow::anyhow!("{source}:{line}: column `{column}`: {e}"))?;
             values.push((column, value));
         }
+        // In the script's order, whatever the order of the file's columns or map keys.
+        values.sort_by_key(|(n, _)| declared.iter().position(|p| &p.name == n));
         let name = match name {
             Some(n) if !n.trim().is_empty() => crate::sweep::folder_safe(n.trim()),
             _ => crate::sweep::case_folder_name(&values),
@@ -333,7 +338,11 @@ mod tests {
                 "name,pga\na,1\na,2\n",
                 "d.csv:3: the motion name `a`",
             ),
-            ("l.csv", "name,pga\na,1,2\n", "2 cells where the header has"),
+            (
+                "l.csv",
+                "name,pga\na,1,2\n",
+                "l.csv:2: 3 cells where the header has 2",
+            ),
             ("e.csv", "name,pga\n", "no rows"),
             ("s.ron", "[(pga: 1.0),\n (pga: )]", "s.ron:2:"),
             (
