@@ -166,8 +166,11 @@ fn sig3(x: f64) -> String {
     if !x.is_finite() {
         return "–".into();
     }
-    if x == 0.0 {
-        return "0".into();
+    if x.abs() >= 1e5 {
+        return format!("{x:.2e}");
+    }
+    if x.fract() == 0.0 {
+        return format!("{x:.0}");
     }
     let decimals = (2 - x.abs().log10().floor() as i32).clamp(0, 6) as usize;
     format!("{x:.decimals$}")
@@ -580,28 +583,32 @@ fn plot_wave_heights(
     completed: &[(&MotionRun, &RunPeaks)],
     columns: &[Column],
 ) -> Result<(String, String)> {
-    let xs: Vec<f64> = (1..=completed.len()).map(|i| i as f64).collect();
-    let mut data: Vec<(String, Vec<f64>, bool)> = Vec::new();
-    data.push((
+    // The SPH point at the motion's number, each code's a little to its right, so that codes
+    // with equal values (API 650 and EN 1998-4 for a cylinder) stay visible.
+    let numbers =
+        |offset: f64| -> Vec<f64> { (1..=completed.len()).map(|i| i as f64 + offset).collect() };
+    let mut data: Vec<(String, Vec<f64>, Vec<f64>)> = vec![(
         "SPH peak wave height".into(),
+        numbers(0.0),
         values_of(
             completed,
             find(columns, "max_eta_m").expect("wave height column"),
         ),
-        true,
-    ));
-    for c in columns
+    )];
+    for (k, c) in columns
         .iter()
         .filter(|c| c.name.starts_with("wave_height_"))
+        .enumerate()
     {
-        data.push((c.label.clone(), values_of(completed, c), false));
+        let offset = 0.12 * (k + 1) as f64;
+        data.push((c.label.clone(), numbers(offset), values_of(completed, c)));
     }
     let freeboard = completed.iter().find_map(|(_, r)| r.freeboard());
     let band = [0.5, completed.len() as f64 + 0.5];
     let level = freeboard.map(|f| [f, f]);
     let mut series: Vec<Series> = data
         .iter()
-        .map(|(label, ys, _)| Series::points(label.clone(), &xs, ys))
+        .map(|(label, xs, ys)| Series::points(label.clone(), xs, ys))
         .collect();
     if let Some(level) = &level {
         series.push(
@@ -893,5 +900,7 @@ mod tests {
         assert_eq!(code_slug("ACI 350.3-06 (7-1)"), "aci_350_3_06");
         assert_eq!(sig3(0.012345), "0.0123");
         assert_eq!(sig3(2345.6), "2346");
+        assert_eq!(sig3(9.0), "9");
+        assert_eq!(sig3(137270910.0), "1.37e8");
     }
 }
