@@ -552,9 +552,12 @@ fn verdict_lines(
             .filter(|c| c.name.starts_with("malhotra_roof_p_"))
             .map(|c| {
                 let [median, _, max] = statistics(&values_of(completed, c));
+                let code = c
+                    .label
+                    .trim_start_matches("Malhotra roof pressure (")
+                    .trim_end_matches(" wave)");
                 format!(
-                    "{}: median {} kPa, maximum {} kPa",
-                    c.label.trim_start_matches("Malhotra roof pressure "),
+                    "from {code}'s wave median {} kPa, maximum {} kPa",
                     sig3(median / 1e3),
                     sig3(max / 1e3)
                 )
@@ -563,12 +566,12 @@ fn verdict_lines(
         lines.push(format!(
             "Roof: reached in {reached} of {n} motions ({impacts} impacts in all); SPH peak roof \
              pressure median {} kPa (84th percentile {} kPa, maximum {} kPa); Malhotra (2005) \
-             from the code waves {}.",
+             {}.",
             sig3(p_median / 1e3),
             sig3(p_84 / 1e3),
             sig3(p_max / 1e3),
             if malhotra.is_empty() {
-                "not available".to_string()
+                "from the code waves: not available".to_string()
             } else {
                 malhotra.join("; ")
             }
