@@ -1,6 +1,7 @@
 //! The library behind the `slosh` command: building tanks from scripts, running cases and
 //! writing their outputs. The binary, `slosh validate` and the validation tests share it.
 
+pub mod assess;
 pub mod bench;
 pub mod build;
 pub mod interrupt;
@@ -12,6 +13,7 @@ pub mod roof;
 pub mod run_folder;
 pub mod runner;
 pub mod shipped_scripts;
+pub mod slurm;
 pub mod spectrum;
 pub mod sweep;
 pub mod sweep_plot;

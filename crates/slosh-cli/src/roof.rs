@@ -3,14 +3,14 @@
 //! snapshots around the largest impact (paper Fig. 7).
 
 use anyhow::Result;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use slosh_core::{Simulation, Vector};
 use slosh_io::{Field2d, PlotSpec, PointArray};
 use slosh_theory::roof::{kurihara_roof_pressure, malhotra_roof_pressure, MALHOTRA_DEFAULT_ANGLE};
 use std::path::Path;
 
 /// One roof impact: a run of output rows with liquid on the roof.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RoofImpact {
     /// First row with roof pressure (s).
     pub t_start: f64,
