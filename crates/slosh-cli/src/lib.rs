@@ -2,6 +2,7 @@
 //! the run loop of `slosh-run` and writing their outputs. The binary and the end-to-end tests
 //! share it; the validation suite lives in `slosh-validate`.
 
+pub mod assess;
 pub mod bench;
 pub mod build;
 pub mod interrupt;
@@ -12,6 +13,7 @@ pub mod roof_files;
 pub mod run_folder;
 pub mod runner;
 pub mod shipped_scripts;
+pub mod slurm;
 pub mod spectrum;
 pub mod sweep;
 pub mod sweep_plot;

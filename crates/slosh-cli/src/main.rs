@@ -26,6 +26,9 @@ enum Command {
     /// Run a case over the cartesian product of parameter values (parallel, resumable) into
     /// one sub-folder per case plus sweep.csv.
     Sweep(SweepArgs),
+    /// Assess a tank under a suite of ground motions (one run per motion, locally or as a
+    /// Slurm job array); writes DIR/assessment.md, assessment.csv and plots.
+    Assess(slosh_cli::assess::cli::AssessArgs),
     /// Closed-form numbers for a tank (natural periods, masses, Housner, code wave height).
     Theory(TheoryArgs),
     /// Run the validation suite; writes DIR/report.md and plots; exit code 1 on any FAIL.
@@ -129,6 +132,15 @@ struct SweepArgs {
     /// Also let the script read files below DIR (repeatable), as `slosh run --allow-read`.
     #[arg(long = "allow-read", value_name = "DIR")]
     allow_read: Vec<PathBuf>,
+    /// Slurm: write DIR/sweep.sbatch, one array task per case.
+    #[command(flatten)]
+    slurm: slosh_cli::slurm::SlurmArgs,
+    /// Run case I of the sweep only (default: $SLURM_ARRAY_TASK_ID), as an array task does.
+    #[arg(long, value_name = "I", num_args = 0..=1, conflicts_with_all = ["slurm", "collect"])]
+    task: Option<Option<usize>>,
+    /// Write sweep.csv from the cases finished so far (after a --slurm job).
+    #[arg(long, conflicts_with = "slurm")]
+    collect: bool,
 }
 
 #[derive(Args)]
@@ -216,7 +228,10 @@ fn x86_64_v3_supported() -> bool {
 fn main() -> ExitCode {
     exit_unless_cpu_supports_build();
     let cli = parse_command_line();
-    if matches!(cli.command, Command::Run(_) | Command::Sweep(_)) {
+    if matches!(
+        cli.command,
+        Command::Run(_) | Command::Sweep(_) | Command::Assess(_)
+    ) {
         if let Err(e) = slosh_cli::interrupt::install() {
             eprintln!("warning: SIGINT/SIGTERM handlers not installed ({e}): a signal ends the run at once");
         }
@@ -224,6 +239,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(args) => cmd_run(args),
         Command::Sweep(args) => cmd_sweep(args),
+        Command::Assess(args) => parse_sets(&args.set)
+            .and_then(|sets| slosh_cli::assess::cli::cli_assess(args, sets.overrides)),
         Command::Theory(args) => cmd_theory(args),
         Command::Bench(args) => {
             slosh_cli::bench::cli_bench(args.quick, args.out, args.threads, args.case, &args.scheme)
@@ -361,7 +378,17 @@ fn cmd_sweep(args: SweepArgs) -> Result<()> {
     }
     let exe = std::env::current_exe()
         .context("cannot find the slosh executable that runs the cases of the sweep")?;
-    let outcome = slosh_cli::sweep::cli_sweep_reading(
+    use slosh_cli::sweep::SweepMode;
+    let mode = match (args.slurm.slurm, args.task, args.collect) {
+        (true, ..) => SweepMode::Slurm {
+            options: args.slurm.options(),
+            submit: args.slurm.submit,
+        },
+        (_, Some(index), _) => SweepMode::Task(index),
+        (_, _, true) => SweepMode::Collect,
+        _ => SweepMode::Run,
+    };
+    let outcome = slosh_cli::sweep::cli_sweep_as(
         &exe,
         &args.case,
         &args.vary,
@@ -369,7 +396,22 @@ fn cmd_sweep(args: SweepArgs) -> Result<()> {
         args.jobs,
         args.quiet,
         &args.allow_read,
+        &mode,
     )?;
+    match mode {
+        SweepMode::Slurm { .. } => return Ok(()),
+        SweepMode::Task(_) => {
+            return match outcome.cases.first() {
+                Some(c) if c.status == slosh_cli::sweep::CaseStatus::Failed => bail!(
+                    "case {} failed: {}",
+                    c.folder,
+                    c.error.as_deref().unwrap_or("unknown error")
+                ),
+                _ => Ok(()),
+            }
+        }
+        _ => {}
+    }
     for plot in &plots {
         let title = format!(
             "{} — {}",
@@ -380,6 +422,18 @@ fn cmd_sweep(args: SweepArgs) -> Result<()> {
         if !args.quiet {
             eprintln!("plot: {}.png", stem.display());
         }
+    }
+    let missing = outcome
+        .cases
+        .iter()
+        .filter(|c| c.status == slosh_cli::sweep::CaseStatus::Missing)
+        .count();
+    if missing > 0 {
+        bail!(
+            "{missing} of {} cases have not run yet (status `missing` in {}); collect again when the job has ended",
+            outcome.cases.len(),
+            outcome.csv.display()
+        );
     }
     let failed = outcome.failed();
     if failed > 0 {

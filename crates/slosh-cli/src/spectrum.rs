@@ -12,7 +12,7 @@
 //! `plots/input_spectrum.png/.svg`, and a [`SpectrumSummary`] for `summary.ron`.
 
 use anyhow::{bail, Context, Result};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use slosh_io::{PlotSpec, Series, TableWriter};
 use slosh_motion::{log_spaced_periods, response_spectrum, GRAVITY_M_S2};
 use slosh_script::{Case, TankSpec};
@@ -28,7 +28,7 @@ pub const STRUCTURAL_DAMPING: f64 = 0.05;
 pub const CONVECTIVE_DAMPING: f64 = 0.005;
 
 /// One code's sloshing wave height for this tank and this input.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CodeWaveHeight {
     /// Code and clause.
     pub code: String,
@@ -39,7 +39,7 @@ pub struct CodeWaveHeight {
 }
 
 /// What `summary.ron` gets about the input's response spectrum.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct SpectrumSummary {
     /// The tank's first convective period T_c used, s.
     pub convective_period_s: f64,
@@ -178,7 +178,7 @@ fn malhotra_from_code_waves(
 
 /// Malhotra's roof pressure from one code's wave height (0 when the wave stays below the
 /// roof).
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CodeRoofPressure {
     /// The code whose wave height was used.
     pub wave_from: String,

@@ -48,6 +48,8 @@ pub enum CaseStatus {
     Failed,
     /// Stopped by SIGINT/SIGTERM (while running, or not started): run the sweep again.
     Interrupted,
+    /// Not run yet (`--collect` of a sweep run as a Slurm job array).
+    Missing,
 }
 
 impl CaseStatus {
@@ -57,6 +59,7 @@ impl CaseStatus {
             CaseStatus::Completed | CaseStatus::Skipped => "completed",
             CaseStatus::Failed => "failed",
             CaseStatus::Interrupted => "interrupted",
+            CaseStatus::Missing => "missing",
         }
     }
 }
@@ -68,6 +71,7 @@ impl fmt::Display for CaseStatus {
             CaseStatus::Skipped => "skipped (done before)",
             CaseStatus::Failed => "failed",
             CaseStatus::Interrupted => "interrupted",
+            CaseStatus::Missing => "missing (not run yet)",
         })
     }
 }
@@ -245,22 +249,24 @@ fn value_text(v: &ParamValue) -> String {
     }
 }
 
+/// `text` with characters other than letters, digits, `.`, `+`, `-`, `_` replaced by `_`.
+pub(crate) fn folder_safe(text: &str) -> String {
+    text.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '.' | '+' | '-' | '_') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
 /// The sub-folder name of a case: `name-value__name-value`, sanitised.
 pub fn case_folder_name(values: &[(String, ParamValue)]) -> String {
-    let sanitise = |s: &str| -> String {
-        s.chars()
-            .map(|c| {
-                if c.is_ascii_alphanumeric() || matches!(c, '.' | '+' | '-' | '_') {
-                    c
-                } else {
-                    '_'
-                }
-            })
-            .collect()
-    };
     let name = values
         .iter()
-        .map(|(n, v)| format!("{}-{}", sanitise(n), sanitise(&value_text(v))))
+        .map(|(n, v)| format!("{}-{}", folder_safe(n), folder_safe(&value_text(v))))
         .collect::<Vec<_>>()
         .join("__");
     if name.is_empty() {
@@ -333,7 +339,7 @@ impl<'de> Deserialize<'de> for OrderedFields {
 }
 
 /// A summary read back: its typed head and its scalars flattened to (column, text).
-struct ReadSummary {
+pub(crate) struct ReadSummary {
     head: SummaryHead,
     scalars: Vec<(String, String)>,
 }
@@ -463,17 +469,48 @@ fn same_parameters(
 }
 
 /// Everything about one case before it runs.
-struct Planned {
-    folder: String,
-    dir: PathBuf,
-    values: Vec<(String, ParamValue)>,
+pub(crate) struct Planned {
+    /// Sub-folder name.
+    pub(crate) folder: String,
+    /// The run folder.
+    pub(crate) dir: PathBuf,
+    /// The parameters passed with `--set`.
+    pub(crate) values: Vec<(String, ParamValue)>,
     /// The script's parameters with this case's values.
-    expected: Vec<(String, ParamValue)>,
+    pub(crate) expected: Vec<(String, ParamValue)>,
+}
+
+impl Planned {
+    /// A case run in `parent/folder` with `values` set over the script's `declared` defaults.
+    pub(crate) fn new(
+        folder: String,
+        parent: &Path,
+        values: Vec<(String, ParamValue)>,
+        declared: &[slosh_script::ParamDecl],
+    ) -> Planned {
+        let expected = declared
+            .iter()
+            .map(|p| {
+                let v = values
+                    .iter()
+                    .find(|(n, _)| *n == p.name)
+                    .map_or_else(|| p.default.clone(), |(_, v)| v.clone());
+                (p.name.clone(), v)
+            })
+            .collect();
+        Planned {
+            dir: parent.join(&folder),
+            folder,
+            values,
+            expected,
+        }
+    }
 }
 
 /// The result of one case: its outcome and, when readable, its summary.
-struct Done {
-    outcome: CaseOutcome,
+pub(crate) struct Done {
+    /// How it ended.
+    pub(crate) outcome: CaseOutcome,
     summary: Option<ReadSummary>,
 }
 
@@ -504,6 +541,51 @@ pub fn cli_sweep_reading(
     jobs: usize,
     quiet: bool,
     allow_read: &[PathBuf],
+) -> Result<SweepOutcome> {
+    cli_sweep_as(
+        exe,
+        case,
+        vary,
+        out,
+        jobs,
+        quiet,
+        allow_read,
+        &SweepMode::Run,
+    )
+}
+
+/// What `slosh sweep` does with its cases.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SweepMode {
+    /// Run them here and write `sweep.csv`.
+    Run,
+    /// Write `DIR/sweep.sbatch`, a Slurm job array with one task per case whose command is
+    /// this sweep's with `--task $SLURM_ARRAY_TASK_ID`; submit it with `sbatch` when `submit`.
+    Slurm {
+        /// The `#SBATCH` options.
+        options: crate::slurm::SlurmOptions,
+        /// Run `sbatch` after writing.
+        submit: bool,
+    },
+    /// Run case I only (an array task; `None`: `$SLURM_ARRAY_TASK_ID`); `sweep.csv` is left
+    /// to `Collect`.
+    Task(Option<usize>),
+    /// Write `sweep.csv` from the cases finished so far (the others `missing` or `failed`).
+    Collect,
+}
+
+/// [`cli_sweep_reading`] in one of the [`SweepMode`]s. The outcome of `Slurm` has no cases,
+/// that of `Task` the one case run.
+#[allow(clippy::too_many_arguments)]
+pub fn cli_sweep_as(
+    exe: &Path,
+    case: &Path,
+    vary: &[String],
+    out: Option<PathBuf>,
+    jobs: usize,
+    quiet: bool,
+    allow_read: &[PathBuf],
+    mode: &SweepMode,
 ) -> Result<SweepOutcome> {
     let read_options = CaseOptions {
         allow_read: allow_read.to_vec(),
@@ -606,119 +688,60 @@ pub fn cli_sweep_reading(
             );
         }
         folders.insert(folder.clone(), k);
-        let expected = declared
-            .iter()
-            .map(|p| {
-                let v = values
-                    .iter()
-                    .find(|(n, _)| *n == p.name)
-                    .map_or_else(|| p.default.clone(), |(_, v)| v.clone());
-                (p.name.clone(), v)
-            })
-            .collect();
-        planned.push(Planned {
-            dir: out_dir.join(&folder),
-            folder,
-            values,
-            expected,
-        });
+        planned.push(Planned::new(folder, &out_dir, values, &declared));
     }
-
-    // Resume: cases already completed with these parameters are not run again.
-    let mut results: Vec<Option<Done>> = Vec::with_capacity(total);
-    let mut to_run = Vec::new();
-    for (k, p) in planned.iter().enumerate() {
-        let done = read_summary(&p.dir.join("summary.ron"))
-            .ok()
-            .filter(|s| s.completed() && same_parameters(&s.head, &p.expected, &p.values));
-        match done {
-            Some(s) => results.push(Some(Done {
-                outcome: CaseOutcome {
-                    folder: p.folder.clone(),
-                    values: p.values.clone(),
-                    status: CaseStatus::Skipped,
-                    error: None,
-                    wall_time_s: s.wall_time(),
-                },
-                summary: Some(s),
-            })),
-            None => {
-                results.push(None);
-                to_run.push(k);
-            }
-        }
-    }
-
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let jobs = if jobs == 0 { cores } else { jobs }
-        .min(to_run.len())
-        .max(1);
-    let threads = (cores / jobs).max(1);
-    if !quiet {
-        eprintln!(
-            "sweep: {total} cases into {}: {} to run ({} done before), {jobs} at a time with {threads} thread{} each",
-            out_dir.display(),
-            to_run.len(),
-            total - to_run.len(),
-            if threads == 1 { "" } else { "s" }
-        );
-    }
-
-    let results = Mutex::new(results);
-    let next = AtomicUsize::new(0);
-    let finished = AtomicUsize::new(0);
-    std::thread::scope(|scope| {
-        for _ in 0..jobs {
-            scope.spawn(|| loop {
-                if crate::interrupt::received().is_some() {
-                    break;
-                }
-                let i = next.fetch_add(1, Ordering::SeqCst);
-                let Some(&k) = to_run.get(i) else { break };
-                let p = &planned[k];
-                let done = run_one(exe, case, p, threads, allow_read);
-                let n = finished.fetch_add(1, Ordering::SeqCst) + 1;
-                let o = &done.outcome;
-                if o.status == CaseStatus::Failed {
-                    eprintln!(
-                        "sweep: case {} failed: {} (log: {})",
-                        o.folder,
-                        o.error.as_deref().unwrap_or("unknown error"),
-                        p.dir.join("run.log").display()
-                    );
-                } else if !quiet {
-                    eprintln!(
-                        "sweep: [{n}/{}] {} completed in {:.1} s",
-                        to_run.len(),
-                        o.folder,
-                        o.wall_time_s
-                    );
-                }
-                results.lock().expect("sweep results")[k] = Some(done);
-            });
-        }
-    });
-    // Cases a signal kept from starting.
-    let results: Vec<Done> = results
-        .into_inner()
-        .expect("sweep results")
-        .into_iter()
-        .zip(&planned)
-        .map(|(d, p)| {
-            d.unwrap_or_else(|| Done {
-                outcome: CaseOutcome {
-                    folder: p.folder.clone(),
-                    values: p.values.clone(),
-                    status: CaseStatus::Interrupted,
-                    error: Some("not started: the sweep was interrupted".into()),
-                    wall_time_s: 0.0,
-                },
-                summary: None,
-            })
-        })
-        .collect();
 
     let csv = out_dir.join("sweep.csv");
+    let results = match mode {
+        SweepMode::Run => run_planned(
+            exe, case, &planned, &out_dir, jobs, quiet, allow_read, "sweep",
+        ),
+        SweepMode::Collect => planned.iter().map(collected_case).collect(),
+        SweepMode::Slurm { options, submit } => {
+            write_sweep_job(
+                exe,
+                case,
+                vary,
+                &out_dir,
+                allow_read,
+                planned.len(),
+                options,
+                *submit,
+            )?;
+            return Ok(SweepOutcome {
+                out_dir,
+                csv,
+                cases: Vec::new(),
+            });
+        }
+        SweepMode::Task(index) => {
+            let i = crate::slurm::task_index(*index)?;
+            if i >= planned.len() {
+                bail!(
+                    "task {i}: the sweep has {} cases (tasks 0 to {})",
+                    planned.len(),
+                    planned.len().saturating_sub(1)
+                );
+            }
+            let done = run_planned(
+                exe,
+                case,
+                &planned[i..=i],
+                &out_dir,
+                1,
+                quiet,
+                allow_read,
+                "sweep",
+            );
+            let cases = done.into_iter().map(|d| d.outcome).collect();
+            return Ok(SweepOutcome {
+                out_dir,
+                csv,
+                cases,
+            });
+        }
+    };
+
     write_table(&csv, &typed, &results)?;
     let cases: Vec<CaseOutcome> = results.into_iter().map(|d| d.outcome).collect();
     let outcome = SweepOutcome {
@@ -744,6 +767,204 @@ pub fn cli_sweep_reading(
         );
     }
     Ok(outcome)
+}
+
+/// A case as `--collect` finds it: completed (with the same parameters), failed, or missing.
+fn collected_case(p: &Planned) -> Done {
+    let outcome = |status, error: Option<String>, wall_time_s| CaseOutcome {
+        folder: p.folder.clone(),
+        values: p.values.clone(),
+        status,
+        error,
+        wall_time_s,
+    };
+    if let Some(s) = done_before(p) {
+        return Done {
+            outcome: outcome(CaseStatus::Skipped, None, s.wall_time()),
+            summary: Some(s),
+        };
+    }
+    match read_summary(&p.dir.join("summary.ron")) {
+        Ok(s) if s.head.status == "failed" || s.head.status == "interrupted" => {
+            let log = std::fs::read_to_string(p.dir.join("run.log")).unwrap_or_default();
+            let error = s.head.error.clone().or_else(|| error_message(&log));
+            Done {
+                outcome: outcome(CaseStatus::Failed, error, s.wall_time()),
+                summary: Some(s),
+            }
+        }
+        _ => Done {
+            outcome: outcome(CaseStatus::Missing, Some("not run yet".into()), f64::NAN),
+            summary: None,
+        },
+    }
+}
+
+/// Writes `DIR/sweep.sbatch`: one array task per case, each running this sweep's command
+/// with `--task $SLURM_ARRAY_TASK_ID`.
+#[allow(clippy::too_many_arguments)]
+fn write_sweep_job(
+    exe: &Path,
+    case: &Path,
+    vary: &[String],
+    out_dir: &Path,
+    allow_read: &[PathBuf],
+    cases: usize,
+    options: &crate::slurm::SlurmOptions,
+    submit: bool,
+) -> Result<()> {
+    let absolute = |p: &Path| -> Result<String> {
+        Ok(std::path::absolute(p)
+            .with_context(|| format!("cannot resolve {}", p.display()))?
+            .display()
+            .to_string())
+    };
+    let out_abs = absolute(out_dir)?;
+    let mut args = vec!["sweep".to_string(), absolute(case)?];
+    for v in vary {
+        args.extend(["--vary".to_string(), v.clone()]);
+    }
+    args.extend(["--out".to_string(), out_abs.clone()]);
+    for dir in allow_read {
+        args.extend(["--allow-read".to_string(), absolute(dir)?]);
+    }
+    let stem = case
+        .file_stem()
+        .map_or("case".into(), |s| s.to_string_lossy().into_owned());
+    let job = crate::slurm::JobArray {
+        job_name: format!("slosh-sweep-{}", folder_safe(&stem)),
+        tasks: cases,
+        exe: std::path::absolute(exe)?,
+        task_args: args.clone(),
+        log_dir: Path::new(&out_abs).join("slurm"),
+    };
+    let mut collect = vec![job.exe.display().to_string()];
+    collect.extend(args);
+    collect.push("--collect".into());
+    crate::slurm::write_and_submit(
+        &Path::new(&out_abs).join("sweep.sbatch"),
+        &job,
+        options,
+        submit,
+        &crate::slurm::command_line(&collect),
+    )
+}
+
+/// The summary of a case completed before with the same parameters, if its folder holds one.
+pub(crate) fn done_before(p: &Planned) -> Option<ReadSummary> {
+    read_summary(&p.dir.join("summary.ron"))
+        .ok()
+        .filter(|s| s.completed() && same_parameters(&s.head, &p.expected, &p.values))
+}
+
+/// Runs the planned cases of a sweep or an assessment (`what` names it in messages), at most
+/// `jobs` at once (0: one per core), each as a child `slosh run`; a case whose folder already
+/// holds a completed summary with the same parameters is not run again. Returns one result
+/// per planned case, in order; cases a SIGINT/SIGTERM kept from starting are `Interrupted`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run_planned(
+    exe: &Path,
+    case: &Path,
+    planned: &[Planned],
+    out_dir: &Path,
+    jobs: usize,
+    quiet: bool,
+    allow_read: &[PathBuf],
+    what: &str,
+) -> Vec<Done> {
+    let total = planned.len();
+    // Resume: cases already completed with these parameters are not run again.
+    let mut results: Vec<Option<Done>> = Vec::with_capacity(total);
+    let mut to_run = Vec::new();
+    for (k, p) in planned.iter().enumerate() {
+        match done_before(p) {
+            Some(s) => results.push(Some(Done {
+                outcome: CaseOutcome {
+                    folder: p.folder.clone(),
+                    values: p.values.clone(),
+                    status: CaseStatus::Skipped,
+                    error: None,
+                    wall_time_s: s.wall_time(),
+                },
+                summary: Some(s),
+            })),
+            None => {
+                results.push(None);
+                to_run.push(k);
+            }
+        }
+    }
+
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let jobs = if jobs == 0 { cores } else { jobs }
+        .min(to_run.len())
+        .max(1);
+    let threads = (cores / jobs).max(1);
+    if !quiet {
+        eprintln!(
+            "{what}: {total} case{} into {}: {} to run ({} done before), {jobs} at a time with {threads} thread{} each",
+            if total == 1 { "" } else { "s" },
+            out_dir.display(),
+            to_run.len(),
+            total - to_run.len(),
+            if threads == 1 { "" } else { "s" }
+        );
+    }
+
+    let results = Mutex::new(results);
+    let next = AtomicUsize::new(0);
+    let finished = AtomicUsize::new(0);
+    std::thread::scope(|scope| {
+        for _ in 0..jobs {
+            scope.spawn(|| loop {
+                if crate::interrupt::received().is_some() {
+                    break;
+                }
+                let i = next.fetch_add(1, Ordering::SeqCst);
+                let Some(&k) = to_run.get(i) else { break };
+                let p = &planned[k];
+                let done = run_one(exe, case, p, threads, allow_read);
+                let n = finished.fetch_add(1, Ordering::SeqCst) + 1;
+                let o = &done.outcome;
+                if o.status == CaseStatus::Failed {
+                    eprintln!(
+                        "{what}: case {} failed: {} (log: {})",
+                        o.folder,
+                        o.error.as_deref().unwrap_or("unknown error"),
+                        p.dir.join("run.log").display()
+                    );
+                } else if !quiet {
+                    eprintln!(
+                        "{what}: [{n}/{}] {} completed in {:.1} s",
+                        to_run.len(),
+                        o.folder,
+                        o.wall_time_s
+                    );
+                }
+                results.lock().expect("case results")[k] = Some(done);
+            });
+        }
+    });
+    // Cases a signal kept from starting.
+    let results: Vec<Done> = results
+        .into_inner()
+        .expect("case results")
+        .into_iter()
+        .zip(planned)
+        .map(|(d, p)| {
+            d.unwrap_or_else(|| Done {
+                outcome: CaseOutcome {
+                    folder: p.folder.clone(),
+                    values: p.values.clone(),
+                    status: CaseStatus::Interrupted,
+                    error: Some(format!("not started: the {what} was interrupted")),
+                    wall_time_s: 0.0,
+                },
+                summary: None,
+            })
+        })
+        .collect();
+    results
 }
 
 fn fmt_values(values: &[(String, ParamValue)]) -> String {
@@ -877,7 +1098,7 @@ fn run_one(exe: &Path, case: &Path, p: &Planned, threads: usize, allow_read: &[P
 }
 
 /// The error paragraph of a `slosh run` log (after `error: `, or a panic message), on one line.
-fn error_message(log: &str) -> Option<String> {
+pub(crate) fn error_message(log: &str) -> Option<String> {
     let start = log
         .rfind("error: ")
         .map(|i| i + "error: ".len())

@@ -15,7 +15,7 @@ use crate::sim::{Fluid, Vector, Walls};
 use rayon::prelude::*;
 
 /// Loads on every part at one step.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct PartLoads<const D: usize> {
     /// The step these loads belong to.
     pub step: u64,
@@ -28,7 +28,7 @@ pub struct PartLoads<const D: usize> {
 }
 
 /// Running extremes of the loads over a run (from time-windowed pressures).
-#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct LoadPeaks {
     /// Largest roof pressure (Pa).
     pub max_roof_p: f64,
@@ -40,6 +40,20 @@ pub struct LoadPeaks {
     pub t_max_roof_force_up: f64,
     /// Largest |base shear| along x (N; 2D: N/m).
     pub max_abs_base_shear_x: f64,
+}
+
+/// The evolving state of a [`LoadEvaluator`], for checkpoints.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct LoadState<const D: usize> {
+    history: Vec<f64>,
+    history_time: Vec<f64>,
+    history_step: Vec<u64>,
+    running_sum: Vec<f64>,
+    recorded: u64,
+    instantaneous: Vec<f64>,
+    centred_pressure: Vec<f64>,
+    centred: Option<PartLoads<D>>,
+    peaks: LoadPeaks,
 }
 
 /// Evaluates wall pressures for loads and keeps their time window.
@@ -101,6 +115,52 @@ impl<const D: usize> LoadEvaluator<D> {
             centred: None,
             peaks: LoadPeaks::default(),
         }
+    }
+
+    /// The evolving part of the evaluator: the ring of past pressures and its running sums,
+    /// the last evaluation and the peaks.
+    pub(crate) fn state(&self) -> LoadState<D> {
+        LoadState {
+            history: self.history.clone(),
+            history_time: self.history_time.clone(),
+            history_step: self.history_step.clone(),
+            running_sum: self.running_sum.clone(),
+            recorded: self.recorded,
+            instantaneous: self.instantaneous.clone(),
+            centred_pressure: self.centred_pressure.clone(),
+            centred: self.centred.clone(),
+            peaks: self.peaks,
+        }
+    }
+
+    /// Puts back a state taken by [`Self::state`] from an evaluator of the same load points
+    /// and window; `Err` names what does not match.
+    pub(crate) fn set_state(&mut self, s: LoadState<D>) -> Result<(), String> {
+        let n = self.wall_index.len();
+        if s.history.len() != self.history.len()
+            || s.history_time.len() != self.window
+            || s.history_step.len() != self.window
+            || s.running_sum.len() != n
+            || s.instantaneous.len() != n
+            || s.centred_pressure.len() != n
+        {
+            return Err(format!(
+                "the load window holds {} load points × {} steps, the checkpoint {} values",
+                n,
+                self.window,
+                s.history.len()
+            ));
+        }
+        self.history = s.history;
+        self.history_time = s.history_time;
+        self.history_step = s.history_step;
+        self.running_sum = s.running_sum;
+        self.recorded = s.recorded;
+        self.instantaneous = s.instantaneous;
+        self.centred_pressure = s.centred_pressure;
+        self.centred = s.centred;
+        self.peaks = s.peaks;
+        Ok(())
     }
 
     /// Number of load points.

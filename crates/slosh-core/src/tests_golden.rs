@@ -11,7 +11,7 @@ use crate::{
 };
 
 /// The configurations: a name and its parameters (all at the paper's stiffness).
-fn configurations() -> Vec<(&'static str, SphParams)> {
+pub(crate) fn configurations() -> Vec<(&'static str, SphParams)> {
     let paper = SphParams::paper().with_paper_stiffness();
     vec![
         ("modern preset", SphParams::modern().with_paper_stiffness()),

@@ -2,6 +2,7 @@
 //!
 //! - [`series`]: `series.csv` time series (+ `series_units.csv`) and other CSV tables;
 //! - [`summary`]: pretty RON files such as `summary.ron`;
+//! - [`checkpoint`]: versioned, checksummed binary checkpoints, written atomically;
 //! - [`vtk`]: VTK XML PolyData `.vtp` particle frames and the ParaView `.pvd` index;
 //! - [`plot`]: PNG + SVG figures (line plots, SPH-vs-theory scatter, heatmaps) drawn with a
 //!   bundled font, so no system fonts are needed.
@@ -12,12 +13,14 @@
 #![warn(missing_docs)]
 
 mod base64;
+pub mod checkpoint;
 pub mod error;
 pub mod plot;
 pub mod series;
 pub mod summary;
 pub mod vtk;
 
+pub use checkpoint::{read_checkpoint, write_checkpoint};
 pub use error::{IoError, Result};
 pub use plot::{heatmap, line_plot, scatter_with_identity, Field2d, PlotSpec, Series, SeriesStyle};
 pub use series::{

@@ -8,7 +8,7 @@
 //! over the filter's transient length, so that a load that does not end at zero is not pulled
 //! towards zero at the end of the run.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use slosh_motion::filter::{butterworth_zero_phase, BUTTERWORTH_ORDER};
 
 /// The raw load columns that get a filtered copy, where the run has them.
@@ -144,7 +144,7 @@ pub fn low_pass_held_ends(signal: &[f64], dt: f64, cutoff_hz: f64) -> Vec<f64> {
 }
 
 /// The peaks of one raw load column and of its filtered copy.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct LoadPeak {
     /// Raw column name (the filtered one is `<column>_lp`).
     pub column: String,

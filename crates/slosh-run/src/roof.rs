@@ -2,12 +2,12 @@
 //! Kurihara's and Malhotra's formulas beside the SPH peak (paper §3.2), and pressure-field
 //! snapshots around the largest impact (paper Fig. 7).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use slosh_core::{Simulation, Vector};
 use slosh_theory::roof::{kurihara_roof_pressure, malhotra_roof_pressure, MALHOTRA_DEFAULT_ANGLE};
 
 /// One roof impact: a run of output rows with liquid on the roof.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RoofImpact {
     /// First row with roof pressure (s).
     pub t_start: f64,

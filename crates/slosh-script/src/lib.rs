@@ -14,6 +14,7 @@
 //! `shift`) and `at(t)`; `sine(A, ω[, φ])` and `sines([[A, ω], ...])` give the paper's
 //! a_g(t) = +A ω² sin(ωt + φ); `+` adds records and sines. Every record read is listed as a
 //! [`MotionInfo`] (file, SHA-256, scaling, processing).
+#![warn(missing_docs)]
 
 mod case;
 mod checks;

@@ -1,10 +1,10 @@
 //! Script parameters: `param(name, default)` declarations and `--set` overrides.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 
 /// The value of a script parameter.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum ParamValue {
     /// A real number.
     Float(f64),

@@ -1,0 +1,142 @@
+//! The `slosh assess` command line.
+
+use super::{collect, prepare, run_local, run_task, write_slurm_job, AssessRequest};
+use crate::slurm::SlurmArgs;
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use slosh_script::ParamValue;
+use std::path::{Path, PathBuf};
+
+/// Arguments of `slosh assess`.
+#[derive(Args, Debug)]
+pub struct AssessArgs {
+    /// The case script (.rhai); its parameters are the suite's columns.
+    pub case: Option<PathBuf>,
+    /// The suite: a CSV or RON table with one ground motion per row, columns named after
+    /// the script's parameters (e.g. record, pga) plus an optional `name`.
+    #[arg(long, value_name = "SUITE.csv|SUITE.ron")]
+    pub motions: Option<PathBuf>,
+    /// Assessment folder (default: out/<case-name>-assess); runs go to DIR/runs/<name>/.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Motions run at once, each with cores/jobs threads (default 0: one per core, up to the
+    /// number of motions).
+    #[arg(long, default_value_t = 0)]
+    pub jobs: usize,
+    /// Override a parameter for every motion (one the suite does not set).
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Also let the script read files below DIR (repeatable), as `slosh run --allow-read`.
+    #[arg(long = "allow-read", value_name = "DIR")]
+    pub allow_read: Vec<PathBuf>,
+    /// Report failures only: no progress lines.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Slurm: write DIR/assess.sbatch (one array task per motion) and the manifest it reads.
+    #[command(flatten)]
+    pub slurm: SlurmArgs,
+    /// Run one motion of the assessment in --out DIR: task I (default: $SLURM_ARRAY_TASK_ID).
+    #[arg(long, value_name = "I", num_args = 0..=1,
+          conflicts_with_all = ["case", "motions", "slurm", "collect", "set"])]
+    pub task: Option<Option<usize>>,
+    /// Write the report of the assessment in --out DIR from its finished runs and list the
+    /// missing and failed ones.
+    #[arg(long, conflicts_with_all = ["case", "motions", "slurm", "set"])]
+    pub collect: bool,
+}
+
+/// Runs `slosh assess` with `overrides`, the parsed `--set` values.
+pub fn cli_assess(args: AssessArgs, overrides: Vec<(String, ParamValue)>) -> Result<()> {
+    let exe = std::env::current_exe()
+        .context("cannot find the slosh executable that runs the motions")?;
+    if let Some(task) = args.task {
+        let out = needs_out(&args.out, "--task")?;
+        let index = crate::slurm::task_index(task)?;
+        let status = run_task(&exe, out, index)?;
+        if !args.quiet {
+            eprintln!("assess: task {index} {status}");
+        }
+        return Ok(());
+    }
+    if args.collect {
+        let out = needs_out(&args.out, "--collect")?;
+        return finish(collect(out)?, args.quiet);
+    }
+    let (Some(case), Some(motions)) = (args.case, args.motions) else {
+        bail!(
+            "slosh assess needs a case script and a suite: slosh assess CASE.rhai --motions \
+             SUITE.csv [--out DIR]; or --task I --out DIR, or --collect --out DIR"
+        );
+    };
+    let slurm = args.slurm.options();
+    if args.slurm.slurm {
+        slurm.check()?;
+    }
+    let (manifest, out_dir) = prepare(&AssessRequest {
+        case,
+        motions,
+        out: args.out,
+        overrides,
+        allow_read: args.allow_read,
+    })?;
+    if args.slurm.slurm {
+        let collect = crate::slurm::command_line(&[
+            exe.display().to_string(),
+            "assess".into(),
+            "--collect".into(),
+            "--out".into(),
+            out_dir.display().to_string(),
+        ]);
+        write_slurm_job(
+            &exe,
+            &manifest,
+            &out_dir,
+            &slurm,
+            args.slurm.submit,
+            &collect,
+        )?;
+        return Ok(());
+    }
+    let collected = run_local(&exe, &manifest, &out_dir, args.jobs, args.quiet)?;
+    finish(collected, args.quiet)
+}
+
+fn needs_out<'a>(out: &'a Option<PathBuf>, what: &str) -> Result<&'a Path> {
+    out.as_deref().ok_or_else(|| {
+        anyhow::anyhow!("{what} needs --out DIR, the folder of the assessment (holding assess.ron)")
+    })
+}
+
+/// Prints the verdicts and the report's path; an error when motions are missing or failed.
+fn finish(c: super::report::Collected, quiet: bool) -> Result<()> {
+    for v in &c.verdicts {
+        println!("{v}");
+    }
+    if !quiet {
+        println!(
+            "report: {} (table: {})",
+            c.report.display(),
+            c.csv.display()
+        );
+    }
+    if c.missing.is_empty() && c.failed.is_empty() {
+        return Ok(());
+    }
+    let mut text = format!(
+        "the report covers {} motion{} only",
+        c.completed,
+        if c.completed == 1 { "" } else { "s" }
+    );
+    if !c.missing.is_empty() {
+        text.push_str(&format!("; missing: {}", c.missing.join(", ")));
+    }
+    if !c.failed.is_empty() {
+        let failed: Vec<String> = c.failed.iter().map(|(n, e)| format!("{n} ({e})")).collect();
+        text.push_str(&format!("; failed: {}", failed.join(", ")));
+    }
+    text.push_str(
+        "; rerun the same command (or the missing array tasks) to run them, each failed run's \
+         run.log says why",
+    );
+    bail!(text)
+}

@@ -1,0 +1,297 @@
+//! Slurm job arrays: a batch script with one array task per run, and its submission.
+//!
+//! Each array task runs one `slosh` command with the task's index (`$SLURM_ARRAY_TASK_ID`);
+//! nothing is needed on the cluster but the `slosh` binary and a file system shared by the
+//! nodes. The script asks Slurm to requeue a task whose node fails (`--requeue`); a requeued
+//! task runs its case again unless its run folder already holds the completed result.
+
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The `#SBATCH` options a user may choose (the rest follow from the job).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SlurmOptions {
+    /// Partition (`--partition`); the cluster's default when `None`.
+    pub partition: Option<String>,
+    /// Time limit of each array task, `[D-]HH:MM:SS` (`--time`).
+    pub time: Option<String>,
+    /// CPUs of each array task (`--cpus-per-task`); the case runs with that many threads.
+    pub cpus_per_task: Option<usize>,
+}
+
+impl SlurmOptions {
+    /// Checks the values before anything is written.
+    pub fn check(&self) -> Result<()> {
+        if let Some(t) = &self.time {
+            if !is_time_limit(t) {
+                bail!("--time {t}: expected HH:MM:SS or D-HH:MM:SS (e.g. --time 04:00:00)");
+            }
+        }
+        if let Some(p) = &self.partition {
+            if p.is_empty()
+                || p.chars()
+                    .any(|c| c.is_whitespace() || c == '\'' || c == '"')
+            {
+                bail!("--partition {p:?}: a partition name has no spaces or quotes");
+            }
+        }
+        if self.cpus_per_task == Some(0) {
+            bail!("--cpus-per-task must be at least 1");
+        }
+        Ok(())
+    }
+}
+
+/// The `--slurm` options of `slosh assess` and `slosh sweep`.
+#[derive(Args, Clone, Debug, Default)]
+pub struct SlurmArgs {
+    /// Write a Slurm job array with one task per run into the output folder instead of
+    /// running here, and print the sbatch command.
+    #[arg(long)]
+    pub slurm: bool,
+    /// Slurm partition of the array tasks.
+    #[arg(long, requires = "slurm")]
+    pub partition: Option<String>,
+    /// Time limit of each array task.
+    #[arg(long, requires = "slurm", value_name = "HH:MM:SS")]
+    pub time: Option<String>,
+    /// CPUs of each array task (the run's threads).
+    #[arg(long, requires = "slurm", value_name = "N")]
+    pub cpus_per_task: Option<usize>,
+    /// Submit the job array with sbatch after writing it.
+    #[arg(long, requires = "slurm")]
+    pub submit: bool,
+}
+
+impl SlurmArgs {
+    /// The `#SBATCH` options.
+    pub fn options(&self) -> SlurmOptions {
+        SlurmOptions {
+            partition: self.partition.clone(),
+            time: self.time.clone(),
+            cpus_per_task: self.cpus_per_task,
+        }
+    }
+}
+
+/// True for `HH:MM:SS` and `D-HH:MM:SS` with minutes and seconds below 60.
+fn is_time_limit(text: &str) -> bool {
+    let (days, clock) = match text.split_once('-') {
+        Some((d, c)) => (Some(d), c),
+        None => (None, text),
+    };
+    let digits = |s: &str| !s.is_empty() && s.chars().all(|c| c.is_ascii_digit());
+    let parts: Vec<&str> = clock.split(':').collect();
+    days.is_none_or(digits)
+        && parts.len() == 3
+        && parts.iter().all(|p| digits(p))
+        && parts[1].parse::<u32>().is_ok_and(|m| m < 60)
+        && parts[2].parse::<u32>().is_ok_and(|s| s < 60)
+}
+
+/// A job array to write: `tasks` array tasks, each running `exe` with `task_args` and
+/// `--task $SLURM_ARRAY_TASK_ID`, its log in `log_dir/<job>_<task>.out`.
+#[derive(Clone, Debug)]
+pub struct JobArray {
+    /// Job name shown by `squeue`.
+    pub job_name: String,
+    /// Number of array tasks (indices 0 to tasks − 1).
+    pub tasks: usize,
+    /// The `slosh` executable (an absolute path on the shared file system).
+    pub exe: PathBuf,
+    /// Arguments before `--task` (e.g. `assess --out DIR`).
+    pub task_args: Vec<String>,
+    /// Folder of the tasks' logs.
+    pub log_dir: PathBuf,
+}
+
+/// Quotes a word for a POSIX shell.
+fn shell_quote(word: &str) -> String {
+    if !word.is_empty()
+        && word
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "/._-+=:,@%".contains(c))
+    {
+        word.to_string()
+    } else {
+        format!("'{}'", word.replace('\'', r"'\''"))
+    }
+}
+
+/// The text of the batch script of `job` with `options`.
+pub fn batch_script(job: &JobArray, options: &SlurmOptions) -> String {
+    let mut s = String::from("#!/bin/bash\n");
+    s.push_str(&format!(
+        "#SBATCH --job-name={}\n",
+        shell_quote(&job.job_name)
+    ));
+    s.push_str(&format!(
+        "#SBATCH --array=0-{}\n",
+        job.tasks.saturating_sub(1)
+    ));
+    s.push_str(&format!(
+        "#SBATCH --output={}\n",
+        job.log_dir.join("%A_%a.out").display()
+    ));
+    s.push_str("#SBATCH --ntasks=1\n");
+    if let Some(p) = &options.partition {
+        s.push_str(&format!("#SBATCH --partition={p}\n"));
+    }
+    if let Some(t) = &options.time {
+        s.push_str(&format!("#SBATCH --time={t}\n"));
+    }
+    if let Some(n) = options.cpus_per_task {
+        s.push_str(&format!("#SBATCH --cpus-per-task={n}\n"));
+    }
+    s.push_str("#SBATCH --requeue\n");
+    s.push_str("#SBATCH --open-mode=append\n\n");
+    s.push_str("# One array task per run; each writes only its own run folder.\n");
+    let mut command = vec![shell_quote(&job.exe.display().to_string())];
+    command.extend(job.task_args.iter().map(|a| shell_quote(a)));
+    command.push("--task".into());
+    command.push("\"$SLURM_ARRAY_TASK_ID\"".into());
+    s.push_str(&format!("exec {}\n", command.join(" ")));
+    s
+}
+
+/// Writes the batch script of `job` to `path` (executable) and returns the `sbatch`
+/// command that submits it.
+pub fn write_batch_script(path: &Path, job: &JobArray, options: &SlurmOptions) -> Result<String> {
+    options.check()?;
+    std::fs::create_dir_all(&job.log_dir)
+        .with_context(|| format!("cannot create {}", job.log_dir.display()))?;
+    std::fs::write(path, batch_script(job, options))
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755))
+        .with_context(|| format!("cannot make {} executable", path.display()))?;
+    Ok(format!(
+        "sbatch {}",
+        shell_quote(&path.display().to_string())
+    ))
+}
+
+/// Writes the batch script of `job` to `path`, then submits it when `submit` (printing the
+/// job id as `submitted: job ID`) or prints the `sbatch` command; `collect` is the command
+/// that gathers the results once the job has ended.
+pub fn write_and_submit(
+    path: &Path,
+    job: &JobArray,
+    options: &SlurmOptions,
+    submit: bool,
+    collect: &str,
+) -> Result<()> {
+    let command = write_batch_script(path, job, options)?;
+    println!(
+        "wrote {} ({} array task{}, one per run)",
+        path.display(),
+        job.tasks,
+        if job.tasks == 1 { "" } else { "s" }
+    );
+    if submit {
+        println!("submitted: job {}", self::submit(path)?);
+    } else {
+        println!("submit with: {command}");
+    }
+    println!("when the job has ended: {collect}");
+    Ok(())
+}
+
+/// The words of a command line as one line a POSIX shell reads back.
+pub fn command_line(words: &[String]) -> String {
+    words
+        .iter()
+        .map(|w| shell_quote(w))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Submits a batch script with `sbatch --parsable` and returns the job id.
+pub fn submit(path: &Path) -> Result<String> {
+    let output = Command::new("sbatch")
+        .arg("--parsable")
+        .arg(path)
+        .output()
+        .map_err(|e| {
+            anyhow::anyhow!(
+                "cannot run sbatch ({e}): submit from a machine of the Slurm cluster, or run `sbatch {}` there",
+                path.display()
+            )
+        })?;
+    if !output.status.success() {
+        bail!(
+            "sbatch {} failed ({}): {}",
+            path.display(),
+            output.status,
+            String::from_utf8_lossy(&output.stderr).trim()
+        );
+    }
+    let text = String::from_utf8_lossy(&output.stdout);
+    // `--parsable` prints `jobid` or `jobid;cluster`.
+    let id = text.trim().split(';').next().unwrap_or("").to_string();
+    if id.is_empty() {
+        bail!("sbatch {} printed no job id", path.display());
+    }
+    Ok(id)
+}
+
+/// The array task index: `explicit`, else `$SLURM_ARRAY_TASK_ID`.
+pub fn task_index(explicit: Option<usize>) -> Result<usize> {
+    if let Some(i) = explicit {
+        return Ok(i);
+    }
+    let text = std::env::var("SLURM_ARRAY_TASK_ID").map_err(|_| {
+        anyhow::anyhow!("--task needs an index (e.g. --task 0) outside a Slurm job array ($SLURM_ARRAY_TASK_ID is not set)")
+    })?;
+    text.trim()
+        .parse()
+        .map_err(|_| anyhow::anyhow!("$SLURM_ARRAY_TASK_ID is `{text}`, not a task index"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn time_limits_and_options_are_checked() {
+        for ok in ["04:00:00", "1-12:30:00", "00:00:59"] {
+            assert!(is_time_limit(ok), "{ok}");
+        }
+        for bad in ["4h", "04:60:00", "1-:00:00:00", "12:00", "a-01:00:00"] {
+            assert!(!is_time_limit(bad), "{bad}");
+        }
+        let bad = SlurmOptions {
+            partition: Some("two words".into()),
+            ..SlurmOptions::default()
+        };
+        assert!(bad.check().is_err());
+    }
+
+    #[test]
+    fn batch_script_runs_one_task_per_index() {
+        let job = JobArray {
+            job_name: "slosh-assess".into(),
+            tasks: 7,
+            exe: "/opt/slosh/bin/slosh".into(),
+            task_args: vec!["assess".into(), "--out".into(), "/shared/my run".into()],
+            log_dir: "/shared/my run/slurm".into(),
+        };
+        let options = SlurmOptions {
+            partition: Some("long".into()),
+            time: Some("02:00:00".into()),
+            cpus_per_task: Some(8),
+        };
+        let s = batch_script(&job, &options);
+        for line in [
+            "#SBATCH --array=0-6\n",
+            "#SBATCH --partition=long\n",
+            "#SBATCH --time=02:00:00\n",
+            "#SBATCH --cpus-per-task=8\n",
+            "exec /opt/slosh/bin/slosh assess --out '/shared/my run' --task \"$SLURM_ARRAY_TASK_ID\"\n",
+        ] {
+            assert!(s.contains(line), "{line} not in\n{s}");
+        }
+    }
+}

@@ -1,0 +1,539 @@
+//! The pair-sweep driver: scheduling of the half sweep over cell-sorted blocks, batching,
+//! neighbour-list filling; every `unsafe` line of the solver is here.
+
+mod pairs;
+pub(crate) use pairs::*;
+
+use crate::neighbours::CellGrid;
+use crate::sim::*;
+use rayon::prelude::*;
+
+/// A block of a [`colour_sweep`] while it runs: its slots `begin..end`, and the end of the
+/// slots it may write (its own and the next block's).
+pub(crate) struct Block {
+    /// Block number (0-based, in slot order).
+    pub(crate) index: usize,
+    /// First slot of the block.
+    pub(crate) begin: usize,
+    /// One past the last slot of the block.
+    pub(crate) end: usize,
+    /// One past the last slot the block may write: the end of the next block.
+    writable_end: usize,
+}
+
+impl Block {
+    /// The one slot `i`, for a pass that writes each particle's slot alone.
+    fn single(i: usize) -> Self {
+        Block {
+            index: 0,
+            begin: i,
+            end: i + 1,
+            writable_end: i + 1,
+        }
+    }
+}
+
+/// An array that the running blocks of a [`colour_sweep`] add to, each at the slots of its
+/// [`Block`] and the next block, which no other running block touches. Every access checks
+/// that bound, so the sweeps that use it hold no `unsafe` code.
+pub(crate) struct SweepSlots<'a, T> {
+    ptr: *mut T,
+    len: usize,
+    _borrow: std::marker::PhantomData<&'a mut [T]>,
+}
+
+// SAFETY: a SweepSlots is only accessed at slots of the running block or the next one
+// (checked in `slot`), which no other thread touches while the block runs (`colour_sweep`);
+// the element type itself moves between threads.
+unsafe impl<T: Send> Send for SweepSlots<'_, T> {}
+unsafe impl<T: Send> Sync for SweepSlots<'_, T> {}
+
+impl<'a, T: Copy> SweepSlots<'a, T> {
+    /// The slots of `values`, borrowed for the sweep.
+    pub(crate) fn new(values: &'a mut [T]) -> Self {
+        SweepSlots {
+            ptr: values.as_mut_ptr(),
+            len: values.len(),
+            _borrow: std::marker::PhantomData,
+        }
+    }
+
+    /// The first slot (the closures of a sweep capture the whole `SweepSlots` through this
+    /// call, and with it its `Sync`).
+    #[inline(always)]
+    fn base(&self) -> *mut T {
+        self.ptr
+    }
+
+    /// Slot `i` of the running `block`; panics outside the block and the next one.
+    #[inline(always)]
+    fn slot(&self, block: &Block, i: usize) -> *mut T {
+        assert!(
+            i >= block.begin && i < block.writable_end && i < self.len,
+            "pair sweep: slot {i} outside block {} ({}..{})",
+            block.index,
+            block.begin,
+            block.writable_end
+        );
+        self.ptr.wrapping_add(i)
+    }
+
+    /// Sets slot `i` to `value`.
+    #[inline(always)]
+    pub(crate) fn set(&self, block: &Block, i: usize, value: T) {
+        let p = self.slot(block, i);
+        // SAFETY: `slot` checked that i belongs to this block or the next, which no other
+        // thread accesses while this block runs.
+        unsafe { *p = value }
+    }
+
+    /// Adds `value` to slot `i`.
+    #[inline(always)]
+    pub(crate) fn add(&self, block: &Block, i: usize, value: T)
+    where
+        T: std::ops::AddAssign,
+    {
+        let p = self.slot(block, i);
+        // SAFETY: as in `set`.
+        unsafe { *p += value }
+    }
+
+    /// Subtracts `value` from slot `i`.
+    #[inline(always)]
+    pub(crate) fn sub(&self, block: &Block, i: usize, value: T)
+    where
+        T: std::ops::SubAssign,
+    {
+        let p = self.slot(block, i);
+        // SAFETY: as in `set`.
+        unsafe { *p -= value }
+    }
+}
+
+/// Runs `block` for every block of slots given by `bounds` (see
+/// [`CellGrid::colour_blocks`]). A block may write its own slots and those of the next block,
+/// so two neighbouring blocks never run at the same time, and each slot receives its shares
+/// in one fixed order: the even blocks come first (each may run at any time), and an odd
+/// block runs once both its even neighbours are done. The result is therefore that of a
+/// sweep over all even blocks followed by one over all odd blocks, whatever the number of
+/// threads, but without a barrier between the two colours: a thread that finds no block
+/// ready waits only for the neighbours of the next one (with two threads on 32 blocks, the
+/// barrier between colours left each thread idle ≈ 10 % of a sweep).
+pub(crate) fn colour_sweep<F: Fn(&Block) + Sync>(bounds: &[u32], block: F) {
+    colour_sweep_listing(bounds, &mut [], 0, |b, _| block(b));
+}
+
+/// [`colour_sweep`] for a sweep that fills neighbour lists: each block also gets its share
+/// of `entries`, the `capacity` entries of each of its particles
+/// (`entries[begin·capacity..end·capacity]`), to pack its lists into.
+pub(crate) fn colour_sweep_listing<F: Fn(&Block, &mut [u32]) + Sync>(
+    bounds: &[u32],
+    entries: &mut [u32],
+    capacity: usize,
+    block: F,
+) {
+    let n_blocks = bounds.len().saturating_sub(1);
+    let n_slots = bounds.last().map_or(0, |&b| b as usize);
+    assert!(entries.len() >= n_slots * capacity, "neighbour lists too short for the sweep");
+    let lists = SweepSlots::new(entries);
+    let run = |b: usize| {
+        let (begin, end) = (bounds[b] as usize, bounds[b + 1] as usize);
+        let this = Block {
+            index: b,
+            begin,
+            end,
+            writable_end: bounds.get(b + 2).map_or(end, |&e| e as usize),
+        };
+        let region: &mut [u32] = if capacity == 0 {
+            &mut []
+        } else {
+            // SAFETY: blocks cover disjoint slot ranges, so their shares of the entries
+            // (begin·capacity..end·capacity, within `entries` by the assertion above) are
+            // disjoint, and each block takes its share once.
+            unsafe {
+                std::slice::from_raw_parts_mut(
+                    lists.base().add(begin * capacity),
+                    (end - begin) * capacity,
+                )
+            }
+        };
+        block(&this, region)
+    };
+    if rayon::current_num_threads() <= 1 || n_blocks <= 2 {
+        (0..n_blocks)
+            .step_by(2)
+            .chain((1..n_blocks).step_by(2))
+            .for_each(run);
+        return;
+    }
+    if n_blocks > BlockStates::MAX_BLOCKS {
+        for parity in 0..2 {
+            (parity..n_blocks)
+                .into_par_iter()
+                .step_by(2)
+                .with_max_len(1)
+                .for_each(run);
+        }
+        return;
+    }
+    let states = BlockStates::new(n_blocks);
+    rayon::broadcast(|ctx| {
+        while let Some(b) = states.claim(ctx.index(), ctx.num_threads()) {
+            run(b);
+            states.finish(b);
+        }
+    });
+}
+
+/// The progress of the blocks of one [`colour_sweep`], shared by its threads (no allocation:
+/// at most [`Self::MAX_BLOCKS`] blocks, which `colour_blocks` with ≈ n/32 particles a block
+/// never exceeds).
+pub(crate) struct BlockStates {
+    /// Per block: `TODO`, `RUNNING` or `DONE`.
+    pub(crate) state: [std::sync::atomic::AtomicU8; Self::MAX_BLOCKS],
+    pub(crate) n_blocks: usize,
+}
+
+impl BlockStates {
+    const MAX_BLOCKS: usize = 128;
+    const TODO: u8 = 0;
+    const RUNNING: u8 = 1;
+    const DONE: u8 = 2;
+
+    pub(crate) fn new(n_blocks: usize) -> Self {
+        BlockStates {
+            state: std::array::from_fn(|_| std::sync::atomic::AtomicU8::new(Self::TODO)),
+            n_blocks,
+        }
+    }
+
+    pub(crate) fn is_done(&self, b: usize) -> bool {
+        b >= self.n_blocks || self.state[b].load(std::sync::atomic::Ordering::Acquire) == Self::DONE
+    }
+
+    /// Claims block `b` if it is still to do and may run now (an odd block reads what its
+    /// even neighbours wrote into its slots, so it waits until both are done).
+    pub(crate) fn try_claim(&self, b: usize) -> bool {
+        use std::sync::atomic::Ordering;
+        self.state[b].load(Ordering::Relaxed) == Self::TODO
+            && (b.is_multiple_of(2) || (self.is_done(b - 1) && self.is_done(b + 1)))
+            && self.state[b]
+                .compare_exchange(
+                    Self::TODO,
+                    Self::RUNNING,
+                    Ordering::Acquire,
+                    Ordering::Relaxed,
+                )
+                .is_ok()
+    }
+
+    /// Claims a block for thread `thread` of `threads`, waiting while blocks remain but none
+    /// may run; `None` once every block is claimed. Each thread has a home range of blocks,
+    /// the same in every sweep (`thread`/`threads` of the slots), which it takes lowest
+    /// first, so that its particles stay in its core's cache from sweep to sweep; with its
+    /// range exhausted it takes the highest block that may run elsewhere, the one its owner
+    /// would reach last.
+    pub(crate) fn claim(&self, thread: usize, threads: usize) -> Option<usize> {
+        let n = self.n_blocks;
+        let (home_lo, home_hi) = (thread * n / threads, (thread + 1) * n / threads);
+        let mut spins = 0u32;
+        loop {
+            if let Some(b) = (home_lo..home_hi).find(|&b| self.try_claim(b)) {
+                return Some(b);
+            }
+            if let Some(b) = (home_hi..n)
+                .chain(0..home_lo)
+                .rev()
+                .find(|&b| self.try_claim(b))
+            {
+                return Some(b);
+            }
+            let any_todo = (0..n)
+                .any(|b| self.state[b].load(std::sync::atomic::Ordering::Relaxed) == Self::TODO);
+            if !any_todo {
+                return None;
+            }
+            spins += 1;
+            if spins < 64 {
+                std::hint::spin_loop();
+            } else {
+                std::thread::yield_now();
+            }
+        }
+    }
+
+    /// Marks block `b` done: its writes become visible to the threads that see the mark.
+    pub(crate) fn finish(&self, b: usize) {
+        self.state[b].store(Self::DONE, std::sync::atomic::Ordering::Release);
+    }
+}
+
+/// One particle's consumer of its forward fluid pairs in the sorted sweeps, fed by
+/// [`forward_pairs_batched`].
+pub(crate) trait ForwardPairBatch {
+    /// A batch of at most [`BATCH`] pairs within the support: neighbour indices and squared
+    /// distances (m²).
+    fn batch(&mut self, batch_j: &[u32], batch_r2: &[f64]);
+}
+
+/// Hands the forward fluid neighbours of sorted particle `i` (those it finds in its forward
+/// half stencil) within the support (`support_sq`, m²) to `sink`, in batches of [`BATCH`] and
+/// a last, shorter one. The candidate loop has no unpredictable branch: every candidate is
+/// written into the batch and only those within the support advance its fill.
+#[inline(always)]
+pub(crate) fn forward_pairs_batched<const D: usize, S: ForwardPairBatch>(
+    grid: &CellGrid<D>,
+    pos: &[Vector<D>],
+    i: usize,
+    support_sq: f64,
+    sink: &mut S,
+) {
+    let xi = pos[i];
+    let mut batch_j = [0u32; BATCH];
+    let mut batch_r2 = [0.0f64; BATCH];
+    let mut batched = 0usize;
+    grid.for_each_forward_range(i, &xi, |j0, j1| {
+        for (j, xj) in (j0..j1).zip(&pos[j0..j1]) {
+            let r2 = (xi - xj).norm_squared();
+            batch_j[batched] = j as u32;
+            batch_r2[batched] = r2;
+            batched += (r2 < support_sq) as usize;
+            if batched == BATCH {
+                sink.batch(&batch_j, &batch_r2);
+                batched = 0;
+            }
+        }
+    });
+    sink.batch(&batch_j[..batched], &batch_r2[..batched]);
+}
+
+/// How far a neighbour list is filled, and whether an entry did not fit.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct ListFill {
+    pub(crate) listed: usize,
+    pub(crate) overflow: bool,
+}
+
+impl ListFill {
+    /// Appends `entry` if `list` has room.
+    #[inline(always)]
+    pub(crate) fn push(&mut self, list: &mut [u32], entry: u32) {
+        if self.listed < list.len() {
+            list[self.listed] = entry;
+            self.listed += 1;
+        } else {
+            self.overflow = true;
+        }
+    }
+
+    /// Appends `found` as far as `list` has room.
+    #[inline(always)]
+    pub(crate) fn append(&mut self, list: &mut [u32], found: &[u32]) {
+        let room = found.len().min(list.len() - self.listed);
+        list[self.listed..self.listed + room].copy_from_slice(&found[..room]);
+        self.listed += room;
+        self.overflow |= room < found.len();
+    }
+
+    /// The count stored for the list: its fill, or [`LIST_OVERFLOW`].
+    #[inline(always)]
+    pub(crate) fn stored_count(self) -> u16 {
+        if self.overflow {
+            LIST_OVERFLOW
+        } else {
+            self.listed as u16
+        }
+    }
+}
+
+/// The fluid particles' shares of the wall particles' density sums (Eq. 19 at walls),
+/// scattered by the density sweep: one set of sums per block residue modulo [`Self::SETS`],
+/// so that blocks running at the same time never add to the same entry.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct WallScatter {
+    /// Σ m W per set and wall particle (set-major).
+    rho: Vec<f64>,
+    /// Σ (m/ρ_j) W per set and wall particle.
+    kernel_sum: Vec<f64>,
+    /// Squared distance of the nearest fluid particle per set and wall particle.
+    nearest_r2: Vec<f64>,
+    /// That fluid particle (u32::MAX: none).
+    nearest: Vec<u32>,
+    /// The sets added up per wall particle by [`Self::drain`]: Σ m W, Σ (m/ρ_j) W and the
+    /// nearest fluid particle (squared distance, index).
+    totals: Vec<(f64, f64, (f64, u32))>,
+}
+
+impl WallScatter {
+    /// Sets: blocks b and b + 4 of one colour are ≥ 3 stencil reaches apart, while two fluid
+    /// neighbours of one wall particle are at most 2 apart.
+    const SETS: usize = 4;
+
+    /// Empty sums for `n_wall` wall particles.
+    pub(crate) fn new(n_wall: usize) -> Self {
+        let len = Self::SETS * n_wall;
+        WallScatter {
+            rho: vec![0.0; len],
+            kernel_sum: vec![0.0; len],
+            nearest_r2: vec![f64::INFINITY; len],
+            nearest: vec![u32::MAX; len],
+            totals: vec![(0.0, 0.0, (f64::INFINITY, u32::MAX)); n_wall],
+        }
+    }
+
+    /// Bytes held.
+    pub(crate) fn heap_bytes(&self) -> usize {
+        self.rho.len() * 28 + self.totals.len() * std::mem::size_of::<(f64, f64, (f64, u32))>()
+    }
+
+    /// The sums, for the running blocks of a density sweep to add to.
+    pub(crate) fn slots(&mut self) -> WallScatterSlots<'_> {
+        WallScatterSlots {
+            n_wall: self.totals.len(),
+            rho: self.rho.as_mut_ptr(),
+            kernel_sum: self.kernel_sum.as_mut_ptr(),
+            nearest_r2: self.nearest_r2.as_mut_ptr(),
+            nearest: self.nearest.as_mut_ptr(),
+            _borrow: std::marker::PhantomData,
+        }
+    }
+
+    /// Adds up the sets of each wall particle, in a fixed order, into [`Self::totals`] and
+    /// empties the sets for the next sweep.
+    pub(crate) fn drain(&mut self) {
+        let n_wall = self.totals.len();
+        let (rho, ksum, near_r2, near) =
+            (&self.rho, &self.kernel_sum, &self.nearest_r2, &self.nearest);
+        self.totals
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(PAR_CHUNK)
+            .for_each(|(w, total)| {
+                let (mut rho_sum, mut kernel_sum) = (0.0, 0.0);
+                let mut nearest = (f64::INFINITY, u32::MAX);
+                for s in 0..Self::SETS {
+                    let k = s * n_wall + w;
+                    rho_sum += rho[k];
+                    kernel_sum += ksum[k];
+                    let candidate = (near_r2[k], near[k]);
+                    if candidate.0 < nearest.0
+                        || (candidate.0 == nearest.0 && candidate.1 < nearest.1)
+                    {
+                        nearest = candidate;
+                    }
+                }
+                *total = (rho_sum, kernel_sum, nearest);
+            });
+        self.rho
+            .par_iter_mut()
+            .zip(self.kernel_sum.par_iter_mut())
+            .zip(self.nearest_r2.par_iter_mut())
+            .zip(self.nearest.par_iter_mut())
+            .with_min_len(4 * PAR_CHUNK)
+            .for_each(|(((r, k), d), j)| {
+                (*r, *k, *d, *j) = (0.0, 0.0, f64::INFINITY, u32::MAX);
+            });
+    }
+
+    /// Wall particle `w`'s sums over the fluid after [`Self::drain`]: Σ m W, Σ (m/ρ_j) W and
+    /// the nearest fluid particle (squared distance, index; u32::MAX when none).
+    #[inline(always)]
+    pub(crate) fn total(&self, w: usize) -> (f64, f64, (f64, u32)) {
+        self.totals[w]
+    }
+}
+
+/// The sums of a [`WallScatter`] while a density sweep adds to them.
+pub(crate) struct WallScatterSlots<'a> {
+    n_wall: usize,
+    rho: *mut f64,
+    kernel_sum: *mut f64,
+    nearest_r2: *mut f64,
+    nearest: *mut u32,
+    _borrow: std::marker::PhantomData<&'a mut WallScatter>,
+}
+
+// SAFETY: the running blocks of a colour sweep write the set of their block number modulo
+// `WallScatter::SETS` (see `add`); blocks using one set are ≥ 3 stencil reaches apart while
+// two fluid neighbours of one wall particle are at most 2 apart, so no entry is written by
+// two threads at once.
+unsafe impl Send for WallScatterSlots<'_> {}
+unsafe impl Sync for WallScatterSlots<'_> {}
+
+impl WallScatterSlots<'_> {
+    /// Adds the pair of fluid particle `i` and wall particle `w` at squared distance `r2`
+    /// (m²) to the wall particle's sums: m W (`rho`), (m/ρ_i) W (`kernel_sum`), and i as
+    /// its nearest fluid particle if it is nearer than those seen.
+    #[inline(always)]
+    pub(crate) fn add(&self, block: &Block, w: usize, rho: f64, kernel_sum: f64, r2: f64, i: u32) {
+        assert!(w < self.n_wall, "wall particle {w} out of range");
+        let k = (block.index % WallScatter::SETS) * self.n_wall + w;
+        // SAFETY: k < SETS · n_wall, the length of each array; no other running block
+        // writes entry k (see the Sync impl).
+        unsafe {
+            *self.rho.add(k) += rho;
+            *self.kernel_sum.add(k) += kernel_sum;
+            let near = self.nearest_r2.add(k);
+            if r2 < *near {
+                *near = r2;
+                *self.nearest.add(k) = i;
+            }
+        }
+    }
+}
+
+/// A neighbour list of the sorted sweeps split into its fluid neighbours (first) and its
+/// wall neighbours (flagged, last).
+#[inline(always)]
+pub(crate) fn split_walls(list: &[u32]) -> (&[u32], &[u32]) {
+    list.split_at(list.partition_point(|&e| e & WALL_NEIGHBOUR == 0))
+}
+
+#[cfg(test)]
+mod sweep_tests {
+    use super::colour_sweep;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    /// The schedule of `colour_sweep` on three threads: every block runs once, no two
+    /// neighbouring blocks overlap in time, and an odd block starts only after both its even
+    /// neighbours have ended; for the dependency schedule (9 and 40 blocks) and the
+    /// two-barrier fallback beyond `BlockStates::MAX_BLOCKS` (200 blocks).
+    #[test]
+    pub(crate) fn blocks_respect_their_neighbours() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        for n_blocks in [9usize, 40, 200] {
+            let bounds: Vec<u32> = (0..=n_blocks as u32).map(|b| 10 * b).collect();
+            let clock = AtomicUsize::new(0);
+            let runs: Vec<AtomicUsize> = (0..n_blocks).map(|_| AtomicUsize::new(0)).collect();
+            let start: Vec<AtomicUsize> = (0..n_blocks).map(|_| AtomicUsize::new(0)).collect();
+            let end: Vec<AtomicUsize> = (0..n_blocks).map(|_| AtomicUsize::new(0)).collect();
+            pool.install(|| {
+                colour_sweep(&bounds, |blk| {
+                    let (b, begin, stop) = (blk.index, blk.begin, blk.end);
+                    assert_eq!((begin, stop), (10 * b, 10 * b + 10));
+                    start[b].store(clock.fetch_add(1, Ordering::SeqCst), Ordering::SeqCst);
+                    runs[b].fetch_add(1, Ordering::SeqCst);
+                    // Some work, so that threads overlap.
+                    let mut x = b as f64;
+                    for _ in 0..20_000 {
+                        x = std::hint::black_box(x.sin());
+                    }
+                    end[b].store(clock.fetch_add(1, Ordering::SeqCst), Ordering::SeqCst);
+                })
+            });
+            let get = |v: &Vec<AtomicUsize>, b: usize| v[b].load(Ordering::SeqCst);
+            for b in 0..n_blocks {
+                assert_eq!(get(&runs, b), 1, "{n_blocks} blocks: block {b} ran once");
+                if b % 2 == 1 {
+                    assert!(get(&start, b) > get(&end, b - 1), "{n_blocks}: block {b}");
+                    if b + 1 < n_blocks {
+                        assert!(get(&start, b) > get(&end, b + 1), "{n_blocks}: block {b}");
+                    }
+                }
+            }
+        }
+    }
+}

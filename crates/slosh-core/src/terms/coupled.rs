@@ -1,0 +1,395 @@
+//! The momentum, continuity, density-diffusion and shifting terms of one pair, evaluated together.
+
+use crate::sim::*;
+use crate::sweep::{Block, PairInteraction, SweepSlots};
+use crate::terms::*;
+
+/// What the pair terms of the modern force pass read: one copy for both neighbour backends,
+/// its methods always inlined into their sweeps.
+pub(crate) struct ModernPairTerms<'a, const D: usize> {
+    /// The paper sweep's constants and fluid and wall arrays (pressure and viscous terms).
+    pub(crate) base: ForceSweep<'a, D>,
+    /// Walls in the artificial viscosity and the paper's viscous term: dynamic walls only
+    /// (wall at rest, as the paper). Adami walls take neither: free slip has no wall stress,
+    /// no-slip the physical viscous stress of the mirrored velocity (`no_slip_viscous`).
+    pub(crate) wall_av: bool,
+    pub(crate) wall_viscous: bool,
+    pub(crate) no_slip_viscous: bool,
+    pub(crate) continuity: bool,
+    /// 0: none, 1: Molteni–Colagrossi, 2: Fourtakas.
+    pub(crate) diffusion: u8,
+    /// ψ_ij·∇_i W_ij = 2 (ρ_j − ρ_i) x_ji·x_ij F/r² = −2 (ρ_j − ρ_i) F, F = (dW/dr)/r: the
+    /// factor −2 δ h c0 of (ρ_j − ρ_i) F.
+    pub(crate) diff_coeff: f64,
+    pub(crate) shifting: bool,
+    /// Hydrostatic density of Fourtakas' diffusion (kg/m³).
+    pub(crate) rho_h: &'a [f64],
+    /// Wall velocity seen by the fluid with no-slip Adami walls (m/s).
+    pub(crate) wall_vel: &'a [Vector<D>],
+}
+
+/// Fluid particle i of a row of modern pairs.
+pub(crate) struct ModernOwner<const D: usize> {
+    pub(crate) f: ForceOwner<D>,
+    /// m/ρ_i (m³, 2D: m²).
+    pub(crate) volume: f64,
+    /// The density the diffusion term differences: ρ_i, or ρ_i − ρ_H,i (Fourtakas).
+    pub(crate) rho_dyn: f64,
+}
+
+/// One fluid pair's shares (i within the support of j).
+pub(crate) struct FluidPairTerm<const D: usize> {
+    /// Acceleration of i (Eq. 8); j gets its negative.
+    pub(crate) acc: Vector<D>,
+    /// dρ_i/dt and dρ_j/dt: continuity m (v_i − v_j)·∇_i W_ij plus the diffusion terms.
+    pub(crate) drho_i: f64,
+    pub(crate) drho_j: f64,
+    /// ∇_i W_ij and W_ij (the latter only with shifting) and m/ρ_j, for the shifting sums.
+    pub(crate) grad_w: Vector<D>,
+    pub(crate) w: f64,
+    pub(crate) volume_j: f64,
+}
+
+/// One fluid–wall pair's shares of i's sums: acceleration, dρ/dt, and the shifting's ∇C and
+/// kernel sum.
+pub(crate) struct WallPairTerm<const D: usize> {
+    pub(crate) acc: Vector<D>,
+    pub(crate) drho: f64,
+    pub(crate) grad_c: Vector<D>,
+    pub(crate) kernel_sum: f64,
+}
+
+impl<'a, const D: usize> ModernPairTerms<'a, D> {
+    /// The terms over `fluid` (its acceleration and density rate are not read), `walls` and
+    /// the modern state's hydrostatic density and wall velocity.
+    pub(crate) fn new(
+        c: &PassConstants,
+        fluid: &'a Fluid<D>,
+        walls: &'a Walls<D>,
+        st: &'a StageBuffers<D>,
+    ) -> Self {
+        let k = &st.k;
+        let base = ForceSweep::new(c, fluid, walls);
+        ModernPairTerms {
+            wall_av: base.av_on && !k.adami,
+            wall_viscous: base.viscous && !k.adami,
+            no_slip_viscous: base.viscous && k.adami && k.no_slip,
+            continuity: k.continuity,
+            diffusion: k.diffusion,
+            diff_coeff: -2.0 * k.diffusion_coeff,
+            shifting: k.shifting.is_some(),
+            rho_h: &st.hydro_density,
+            wall_vel: &st.wall_velocity,
+            base,
+        }
+    }
+
+    /// The density of particle i the diffusion term differences.
+    #[inline(always)]
+    pub(crate) fn rho_dyn(&self, i: usize) -> f64 {
+        if self.diffusion == 2 {
+            self.base.rho[i] - self.rho_h[i]
+        } else {
+            self.base.rho[i]
+        }
+    }
+
+    #[inline(always)]
+    pub(crate) fn owner(&self, i: usize) -> ModernOwner<D> {
+        let f = self.base.owner(i);
+        ModernOwner {
+            volume: self.base.c.mass * f.inv_rho,
+            rho_dyn: self.rho_dyn(i),
+            f,
+        }
+    }
+
+    /// The pair of fluid particles i (`o`) and j at squared distance r2 within the support:
+    /// Eq. 8 (pressure, artificial viscosity, viscous stress), the continuity equation
+    /// dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij (Monaghan 1992) with the δ-SPH diffusion term
+    /// (Molteni & Colagrossi 2009; Fourtakas et al. 2019), and what the shifting sums need.
+    /// `r` is the distance and `factors` the pair's (∇W factor, 1/s, 1/ρ̄) of
+    /// [`ForceSweep::pair_factors`].
+    #[inline(always)]
+    pub(crate) fn fluid_pair(
+        &self,
+        o: &ModernOwner<D>,
+        j: usize,
+        xij: Vector<D>,
+        r: f64,
+        (f, inv_s, inv_rho_mean): (f64, f64, f64),
+    ) -> FluidPairTerm<D> {
+        let c = &self.base.c;
+        let m = c.mass;
+        // Eq. 8: the paper's pair term.
+        let acc = self.base.fluid_term_with(&o.f, j, xij, (f, inv_s, inv_rho_mean));
+        let grad_w = xij * f;
+        let volume_j = m * self.base.inv_rho[j];
+        let vij = o.f.v - self.base.vel[j];
+        let (mut drho_i, mut drho_j) = (0.0, 0.0);
+        if self.continuity {
+            let d = m * vij.dot(&grad_w);
+            (drho_i, drho_j) = (d, d);
+            if self.diffusion != 0 {
+                let psi = self.diff_coeff * (self.rho_dyn(j) - o.rho_dyn) * f;
+                drho_i += psi * volume_j;
+                drho_j -= psi * o.volume;
+            }
+        }
+        let w = if self.shifting {
+            c.kernel.value(r)
+        } else {
+            0.0
+        };
+        FluidPairTerm {
+            acc,
+            drho_i,
+            drho_j,
+            grad_w,
+            w,
+            volume_j,
+        }
+    }
+
+    /// The pair of fluid particle `o` and wall particle `w` within the support, at
+    /// x_iw = x_i − x_w and squared distance r2 (m²): Eq. 8 with the wall's pressure (and
+    /// velocity when mirrored), the continuity term of the wall's velocity (zero: the tank
+    /// frame), and the shifting sums.
+    #[inline(always)]
+    pub(crate) fn wall_term(
+        &self,
+        o: &ForceOwner<D>,
+        w: usize,
+        xiw: Vector<D>,
+        r2: f64,
+    ) -> WallPairTerm<D> {
+        let c = &self.base.c;
+        let m = c.mass;
+        let (mut acc, grad_w, f, inv_s, inv_rho_iw) =
+            self.base
+                .wall_momentum(o, w, xiw, r2, self.wall_av, self.wall_viscous);
+        if self.no_slip_viscous {
+            // No-slip Adami wall: the laminar viscous force of Morris et al. (1997),
+            // m (μ_i + μ_w) (x_iw·∇_i W) v_iw / (ρ_i ρ_w (r² + 0.01 h²)), against the mirrored
+            // wall velocity (Adami et al. 2012 Eq. 22; x_iw·∇_i W = r² F).
+            let v_iw = o.v - self.wall_vel[w];
+            acc += v_iw * (m * 2.0 * c.viscosity * inv_rho_iw * r2 * f * inv_s);
+        }
+        let drho = if self.continuity {
+            m * o.v.dot(&grad_w)
+        } else {
+            0.0
+        };
+        let (grad_c, kernel_sum) = if self.shifting {
+            let volume_w = m * self.base.wall_inv_rho[w];
+            (grad_w * volume_w, volume_w * c.kernel.value(r2.sqrt()))
+        } else {
+            (Vector::<D>::zeros(), 0.0)
+        };
+        WallPairTerm {
+            acc,
+            drho,
+            grad_c,
+            kernel_sum,
+        }
+    }
+}
+
+/// The arrays the modern force pass writes, taken out of the fluid and the state while the
+/// pair terms read the rest (no allocation: empty Vecs stand in until [`Self::restore`]).
+pub(crate) struct ForceOutputs<const D: usize> {
+    pub(crate) acceleration: Vec<Vector<D>>,
+    pub(crate) density_rate: Vec<f64>,
+    pub(crate) shift_gradient: Vec<Vector<D>>,
+    pub(crate) shift_kernel_sum: Vec<f64>,
+}
+
+impl<const D: usize> ForceOutputs<D> {
+    pub(crate) fn take(fluid: &mut Fluid<D>, st: &mut StageBuffers<D>) -> Self {
+        ForceOutputs {
+            acceleration: std::mem::take(&mut fluid.acceleration),
+            density_rate: std::mem::take(&mut fluid.density_rate),
+            shift_gradient: std::mem::take(&mut st.shift_gradient),
+            shift_kernel_sum: std::mem::take(&mut st.shift_kernel_sum),
+        }
+    }
+
+    pub(crate) fn restore(self, fluid: &mut Fluid<D>, st: &mut StageBuffers<D>) {
+        fluid.acceleration = self.acceleration;
+        fluid.density_rate = self.density_rate;
+        st.shift_gradient = self.shift_gradient;
+        st.shift_kernel_sum = self.shift_kernel_sum;
+    }
+}
+
+/// Owner i's running sums over its pairs: acceleration, dρ/dt, and the shifting's ∇C and
+/// kernel sum.
+pub(crate) struct OwnerSums<const D: usize> {
+    pub(crate) acc: Vector<D>,
+    pub(crate) drho: f64,
+    pub(crate) grad_c: Vector<D>,
+    pub(crate) ksum: f64,
+}
+
+impl<const D: usize> OwnerSums<D> {
+    pub(crate) fn new(ksum: f64) -> Self {
+        OwnerSums {
+            acc: Vector::<D>::zeros(),
+            drho: 0.0,
+            grad_c: Vector::<D>::zeros(),
+            ksum,
+        }
+    }
+
+    /// i's share of a fluid pair.
+    #[inline(always)]
+    pub(crate) fn add_fluid(&mut self, pair: &FluidPairTerm<D>, shifting: bool) {
+        self.acc += pair.acc;
+        self.drho += pair.drho_i;
+        if shifting {
+            self.grad_c += pair.grad_w * pair.volume_j;
+            self.ksum += pair.volume_j * pair.w;
+        }
+    }
+
+    /// A fluid–wall pair.
+    #[inline(always)]
+    pub(crate) fn add_wall(&mut self, wall: &WallPairTerm<D>) {
+        self.acc += wall.acc;
+        self.drho += wall.drho;
+        self.grad_c += wall.grad_c;
+        self.ksum += wall.kernel_sum;
+    }
+}
+
+/// The momentum equation with, in the same pair loop, the continuity equation
+/// dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij (Monaghan 1992; walls at rest), the δ-SPH
+/// diffusion term (Molteni & Colagrossi 2009; Fourtakas et al. 2019) and the shifting
+/// gradient ∇C_i = Σ_j V_j ∇_i W_ij with its kernel sum, as a pass over pairs. In a half
+/// sweep the momentum term and the shifting gradient are antisymmetric in i and j, the
+/// continuity term symmetric, and the diffusion term of j is that of i with i and j
+/// exchanged.
+pub(crate) struct Coupled<'a, const D: usize> {
+    terms: ModernPairTerms<'a, D>,
+    acceleration: SweepSlots<'a, Vector<D>>,
+    density_rate: SweepSlots<'a, f64>,
+    shift_gradient: SweepSlots<'a, Vector<D>>,
+    shift_kernel_sum: SweepSlots<'a, f64>,
+    shifting: bool,
+    /// W(0), a particle's own share of its kernel sum.
+    w0: f64,
+    body_force: Vector<D>,
+}
+
+impl<'a, const D: usize> Coupled<'a, D> {
+    /// The pass over `fluid`, `walls` and the stage buffers `st`, writing the acceleration
+    /// (m/s², body force included), dρ/dt (kg/(m³·s)) and, with shifting, ∇C (1/m) and the
+    /// kernel sum into `out`. A half sweep adds to `out`, which must hold the body force and
+    /// zeros already.
+    pub(crate) fn new(
+        c: &PassConstants,
+        fluid: &'a Fluid<D>,
+        walls: &'a Walls<D>,
+        st: &'a StageBuffers<D>,
+        out: &'a mut ForceOutputs<D>,
+        body_force: Vector<D>,
+    ) -> Self {
+        Coupled {
+            terms: ModernPairTerms::new(c, fluid, walls, st),
+            acceleration: SweepSlots::new(&mut out.acceleration),
+            density_rate: SweepSlots::new(&mut out.density_rate),
+            shift_gradient: SweepSlots::new(&mut out.shift_gradient),
+            shift_kernel_sum: SweepSlots::new(&mut out.shift_kernel_sum),
+            shifting: st.k.shifting.is_some(),
+            w0: c.kernel.value(0.0),
+            body_force,
+        }
+    }
+}
+
+impl<'a, const D: usize> PairInteraction<'a, D> for Coupled<'a, D> {
+    type Owner = ModernOwner<D>;
+    type Sums = OwnerSums<D>;
+
+    #[inline(always)]
+    fn momentum(&self) -> &ForceSweep<'a, D> {
+        &self.terms.base
+    }
+
+    #[inline(always)]
+    fn owner(&self, i: usize) -> (ModernOwner<D>, Vector<D>, f64) {
+        let o = self.terms.owner(i);
+        let (x, rho) = (o.f.x, o.f.rho);
+        (o, x, rho)
+    }
+
+    #[inline(always)]
+    fn start(&self, o: &ModernOwner<D>, itself: bool) -> OwnerSums<D> {
+        OwnerSums::new(if itself && self.shifting {
+            o.volume * self.w0
+        } else {
+            0.0
+        })
+    }
+
+    #[inline(always)]
+    fn itself(&self, o: &ModernOwner<D>, sums: &mut OwnerSums<D>) {
+        if self.shifting {
+            sums.ksum += o.volume * self.w0;
+        }
+    }
+
+    #[inline(always)]
+    fn fluid_pair<const HALF: bool>(
+        &self,
+        o: &ModernOwner<D>,
+        sums: &mut OwnerSums<D>,
+        j: usize,
+        xij: Vector<D>,
+        r: f64,
+        factors: (f64, f64, f64),
+        block: &Block,
+    ) {
+        let pair = self.terms.fluid_pair(o, j, xij, r, factors);
+        sums.add_fluid(&pair, self.shifting);
+        if HALF {
+            self.acceleration.sub(block, j, pair.acc);
+            self.density_rate.add(block, j, pair.drho_j);
+            if self.shifting {
+                self.shift_gradient.sub(block, j, pair.grad_w * o.volume);
+                self.shift_kernel_sum.add(block, j, o.volume * pair.w);
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn wall_pair(
+        &self,
+        o: &ModernOwner<D>,
+        sums: &mut OwnerSums<D>,
+        w: usize,
+        xiw: Vector<D>,
+        r2: f64,
+    ) {
+        sums.add_wall(&self.terms.wall_term(&o.f, w, xiw, r2));
+    }
+
+    #[inline(always)]
+    fn finish<const HALF: bool>(&self, i: usize, sums: OwnerSums<D>, block: &Block) {
+        if HALF {
+            self.acceleration.add(block, i, sums.acc);
+            self.density_rate.add(block, i, sums.drho);
+            if self.shifting {
+                self.shift_gradient.add(block, i, sums.grad_c);
+                self.shift_kernel_sum.add(block, i, sums.ksum);
+            }
+        } else {
+            self.acceleration.set(block, i, sums.acc + self.body_force);
+            self.density_rate.set(block, i, sums.drho);
+            if self.shifting {
+                self.shift_gradient.set(block, i, sums.grad_c);
+                self.shift_kernel_sum.set(block, i, sums.ksum);
+            }
+        }
+    }
+}

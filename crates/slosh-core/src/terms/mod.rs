@@ -1,0 +1,10 @@
+//! Each physics term written once.
+
+mod coupled;
+mod density;
+mod momentum;
+mod velocity_gradient;
+pub(crate) use coupled::*;
+pub(crate) use density::*;
+pub(crate) use momentum::*;
+pub(crate) use velocity_gradient::*;
