@@ -37,6 +37,7 @@ pub fn run_script(script: &str, sets: &[&str], out: &Path) -> anyhow::Result<Sum
             verbose: false,
             plots: false,
             max_memory_bytes: None,
+            ..RunOptions::default()
         },
     )
 }

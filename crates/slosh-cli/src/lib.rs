@@ -4,6 +4,7 @@
 
 pub mod assess;
 pub mod bench;
+pub mod checkpoint;
 pub mod build;
 pub mod interrupt;
 pub mod memory;

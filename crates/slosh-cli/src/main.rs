@@ -23,6 +23,9 @@ struct Cli {
 enum Command {
     /// Run a case script and write series.csv, summary.ron, frames and plots.
     Run(RunArgs),
+    /// Continue the interrupted run in DIR from its last checkpoint; the finished outputs are
+    /// those of the run done without interruption.
+    Resume(ResumeArgs),
     /// Run a case over the cartesian product of parameter values (parallel, resumable) into
     /// one sub-folder per case plus sweep.csv.
     Sweep(SweepArgs),
@@ -95,6 +98,29 @@ struct RunArgs {
     allow_read: Vec<PathBuf>,
     /// Memory the run may use (GB); without it, what the machine has available. A run whose
     /// estimated need exceeds it is refused before anything is allocated.
+    #[arg(long, value_name = "GB", value_parser = positive_gb)]
+    max_memory: Option<f64>,
+    /// Wall time between checkpoints into DIR/checkpoint/ (600, 30s, 10m, 1h; 0 = none). A
+    /// run also checkpoints when interrupted (SIGINT, SIGTERM) and at its end;
+    /// `slosh resume DIR` continues it.
+    #[arg(long, value_name = "DURATION", default_value = "10m")]
+    checkpoint_every: String,
+}
+
+#[derive(Args)]
+struct ResumeArgs {
+    /// The run folder of the interrupted run.
+    dir: PathBuf,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// No progress bar and no summary line.
+    #[arg(long)]
+    quiet: bool,
+    /// Wall time between checkpoints (default: as the run was started).
+    #[arg(long, value_name = "DURATION")]
+    checkpoint_every: Option<String>,
+    /// Memory the run may use (GB).
     #[arg(long, value_name = "GB", value_parser = positive_gb)]
     max_memory: Option<f64>,
 }
@@ -230,7 +256,7 @@ fn main() -> ExitCode {
     let cli = parse_command_line();
     if matches!(
         cli.command,
-        Command::Run(_) | Command::Sweep(_) | Command::Assess(_)
+        Command::Run(_) | Command::Resume(_) | Command::Sweep(_) | Command::Assess(_)
     ) {
         if let Err(e) = slosh_cli::interrupt::install() {
             eprintln!("warning: SIGINT/SIGTERM handlers not installed ({e}): a signal ends the run at once");
@@ -238,6 +264,7 @@ fn main() -> ExitCode {
     }
     let result = match cli.command {
         Command::Run(args) => cmd_run(args),
+        Command::Resume(args) => cmd_resume(args),
         Command::Sweep(args) => cmd_sweep(args),
         Command::Assess(args) => parse_sets(&args.set)
             .and_then(|sets| slosh_cli::assess::cli::cli_assess(args, sets.overrides)),
@@ -327,12 +354,69 @@ fn cmd_run(args: RunArgs) -> Result<()> {
     let out = args
         .out
         .unwrap_or_else(|| PathBuf::from("out").join(&case.name));
+    let every = slosh_cli::checkpoint::parse_every(&args.checkpoint_every)
+        .map_err(|e| anyhow::anyhow!("--checkpoint-every {e}"))?;
+    let checkpoints = match every {
+        Some(every) => Some((
+            slosh_cli::checkpoint::RunRecord::new(&args.case, &args.set, &args.allow_read, every)?,
+            every,
+        )),
+        None => None,
+    };
     let opts = RunOptions {
         out_dir: out,
         progress: !args.quiet,
         verbose: !args.quiet,
         plots: true,
         max_memory_bytes: args.max_memory.map(|gb| gb * 1e9),
+        checkpoints,
+        resume: false,
+    };
+    run_case(case, &opts)?;
+    Ok(())
+}
+
+fn cmd_resume(args: ResumeArgs) -> Result<()> {
+    set_threads(args.threads)?;
+    let record = slosh_cli::checkpoint::RunRecord::read(&args.dir)?;
+    // The run continues where it started: its script and record paths may be relative.
+    let dir = std::fs::canonicalize(&args.dir)
+        .with_context(|| format!("cannot resolve {}", args.dir.display()))?;
+    std::env::set_current_dir(&record.working_dir).with_context(|| {
+        format!(
+            "cannot enter {}, where the run started",
+            record.working_dir.display()
+        )
+    })?;
+    let mut options = parse_sets(&record.sets)?;
+    options.allow_read = record.allow_read.clone();
+    let case = load_case(&record.script, &options)?;
+    if case.dim() != record.dim {
+        anyhow::bail!(
+            "the checkpoint in {} is of a {}D run; the script now builds a {}D case",
+            dir.display(),
+            record.dim,
+            case.dim()
+        );
+    }
+    let every = match &args.checkpoint_every {
+        Some(text) => slosh_cli::checkpoint::parse_every(text)
+            .map_err(|e| anyhow::anyhow!("--checkpoint-every {e}"))?,
+        None => Some(
+            std::time::Duration::try_from_secs_f64(record.checkpoint_every_s)
+                .unwrap_or(std::time::Duration::MAX),
+        ),
+    };
+    // A resumed run keeps checkpointing (at least when interrupted again and at its end).
+    let every = every.unwrap_or(std::time::Duration::MAX);
+    let opts = RunOptions {
+        out_dir: dir,
+        progress: !args.quiet,
+        verbose: !args.quiet,
+        plots: true,
+        max_memory_bytes: args.max_memory.map(|gb| gb * 1e9),
+        checkpoints: Some((record, every)),
+        resume: true,
     };
     run_case(case, &opts)?;
     Ok(())

@@ -19,7 +19,7 @@ const GENERATED_FILES: [&str; 7] = [
     "roof_points.vtp",
     "input_spectrum.csv",
 ];
-const GENERATED_DIRS: [&str; 3] = ["frames", "plots", "post"];
+const GENERATED_DIRS: [&str; 4] = ["frames", "plots", "post", "checkpoint"];
 /// Files another slosh command writes into a run folder (a sweep's log of the case).
 const KNOWN_FILES: [&str; 2] = ["run.log", LOCK_FILE];
 
@@ -62,6 +62,22 @@ impl RunFolder {
         };
         check_is_run_folder(dir)?;
         remove_earlier_outputs(dir)?;
+        folder.write_short_summary("running", None)?;
+        Ok(folder)
+    }
+
+    /// Claims `dir` to continue the interrupted run it holds: locked as [`Self::claim`] does,
+    /// but its outputs are kept (the run appends to them).
+    pub fn claim_to_resume(dir: &Path, case: &str, script: &Path) -> Result<RunFolder> {
+        let lock = dir.join(LOCK_FILE);
+        take_lock(&lock)?;
+        let folder = RunFolder {
+            dir: dir.to_path_buf(),
+            lock,
+            case: case.to_string(),
+            script: script.display().to_string(),
+        };
+        check_is_run_folder(dir)?;
         folder.write_short_summary("running", None)?;
         Ok(folder)
     }

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// How to run a case.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct RunOptions {
     /// Output folder.
     pub out_dir: PathBuf,
@@ -29,6 +29,11 @@ pub struct RunOptions {
     pub plots: bool,
     /// Memory the run may use (bytes); `None` = what the machine has available.
     pub max_memory_bytes: Option<f64>,
+    /// Checkpoints: what the run was started with, and the wall time between two
+    /// checkpoints (besides those when it is interrupted and at its end); `None`: none.
+    pub checkpoints: Option<(crate::checkpoint::RunRecord, std::time::Duration)>,
+    /// Continue the interrupted run in `out_dir` from its checkpoint.
+    pub resume: bool,
 }
 
 /// The summary written to `summary.ron` (the fields are listed in the README, *Outputs*). `Default` gives its layout with zeros
@@ -169,6 +174,12 @@ pub struct Summary {
     pub roof_contact: bool,
     /// Why there are no roof plots, when there are none.
     pub roof_note: Option<String>,
+    /// Each interruption of the run and its resumption (`slosh resume`), in order.
+    pub resumes: Vec<crate::checkpoint::ResumeRecord>,
+    /// Checkpoints written by the last process of the run (into `checkpoint/`).
+    pub checkpoints_written: u64,
+    /// Why a checkpoint could not be written, when one could not.
+    pub checkpoint_error: Option<String>,
 }
 
 /// Closed-form numbers written beside the SPH result.
@@ -183,7 +194,11 @@ pub struct TheoryNumbers {
 /// Runs a case to the end (or to a blow-up, keeping what was written) and returns the summary.
 pub fn run_case(mut case: Case, opts: &RunOptions) -> Result<Summary> {
     // Held until the run's outputs are complete.
-    let folder = crate::run_folder::RunFolder::claim(&opts.out_dir, &case.name, &case.script)?;
+    let folder = if opts.resume {
+        crate::run_folder::RunFolder::claim_to_resume(&opts.out_dir, &case.name, &case.script)?
+    } else {
+        crate::run_folder::RunFolder::claim(&opts.out_dir, &case.name, &case.script)?
+    };
     let result = build_and_run(&mut case, opts);
     if let Err(e) = &result {
         folder.mark_failed_if_running(&format!("{e:#}"));
@@ -289,11 +304,45 @@ struct RunFiles {
     frames: Option<FrameSeries>,
     progress: Option<Progress>,
     started: Instant,
+    checkpoints: Option<crate::checkpoint::CheckpointWriter>,
+    /// Rows a resumed run wrote before its checkpoint, written again after the header.
+    earlier_rows: Vec<Vec<f64>>,
+    /// A checkpoint that could not be written (the run goes on; the summary says so).
+    checkpoint_error: Option<String>,
 }
 
 impl<const D: usize> Observer<D> for RunFiles {
     fn columns(&mut self, columns: &[(String, String)]) -> Result<(), HookError> {
-        self.series = Some(SeriesWriter::create(self.out.join("series.csv"), columns)?);
+        let mut writer = SeriesWriter::create(self.out.join("series.csv"), columns)?;
+        for row in std::mem::take(&mut self.earlier_rows) {
+            writer.write_row(&row)?;
+        }
+        self.series = Some(writer);
+        Ok(())
+    }
+
+    fn checkpoint_due(&mut self, _time: f64, _steps: u64) -> bool {
+        self.checkpoints.as_ref().is_some_and(|c| c.due())
+    }
+
+    fn checkpoint(&mut self, state: &slosh_run::RunCheckpoint<D>) -> Result<(), HookError> {
+        let Some(writer) = self.checkpoints.as_mut() else {
+            return Ok(());
+        };
+        // The rows so far must be on disk before a checkpoint that counts them.
+        if let Some(series) = self.series.as_mut() {
+            series.flush()?;
+        }
+        let frames = self
+            .frames
+            .as_ref()
+            .map(|f| f.index().entries().to_vec())
+            .unwrap_or_default();
+        if let Err(e) = writer.write(&frames, state) {
+            let message = format!("{e:#}");
+            eprintln!("warning: checkpoint not written: {message}");
+            self.checkpoint_error = Some(message);
+        }
         Ok(())
     }
 
@@ -389,7 +438,7 @@ fn run_built<const D: usize>(
             sim.sound_speed()
         );
     }
-    let frames = if case.run.frame_interval > 0.0 {
+    let mut frames = if case.run.frame_interval > 0.0 {
         // A frame is written at most once per step; the step is about C h / c0.
         let step = sim.params().cfl_number * sim.smoothing_length() / sim.sound_speed();
         let interval = case.run.frame_interval.max(step);
@@ -400,6 +449,53 @@ fn run_built<const D: usize>(
         Some(FrameSeries::new(out.join("frames")))
     } else {
         None
+    };
+    // Resuming: the state of the interrupted run, its frames and its earlier interruptions.
+    let mut earlier_rows = Vec::new();
+    let mut resumes = Vec::new();
+    let resume_state = if opts.resume {
+        let file = crate::checkpoint::read_state::<D>(out)?;
+        if file.state.sim.time >= case.run.duration - 1e-9 {
+            anyhow::bail!(
+                "the run in {} is complete (t = {} s of {} s): nothing to resume",
+                out.display(),
+                file.state.sim.time,
+                case.run.duration
+            );
+        }
+        if let Some(f) = frames.as_mut() {
+            *f = FrameSeries::continuing(out.join("frames"), &file.frames);
+        }
+        let columns = &file.state.series;
+        let n_rows = columns.first().map_or(0, Vec::len);
+        earlier_rows = (0..n_rows)
+            .map(|r| columns.iter().map(|c| c[r]).collect())
+            .collect();
+        resumes = file.resumes;
+        resumes.push(crate::checkpoint::ResumeRecord {
+            from_time: file.state.sim.time,
+            from_step: file.state.sim.step,
+            resumed_at_unix_s: std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0, |d| d.as_secs()),
+        });
+        if opts.verbose {
+            eprintln!(
+                "{}: resuming at t = {:.4} s (step {})",
+                case.name, file.state.sim.time, file.state.sim.step
+            );
+        }
+        Some(file.state)
+    } else {
+        None
+    };
+    let checkpoints = match &opts.checkpoints {
+        Some((record, every)) => {
+            let mut writer = crate::checkpoint::CheckpointWriter::start(out, record, D, *every)?;
+            writer.resumes = resumes.clone();
+            Some(writer)
+        }
+        None => None,
     };
     let settle = case.run.settle;
     let duration = case.run.duration;
@@ -430,13 +526,17 @@ fn run_built<const D: usize>(
         frames,
         progress: Progress::start(opts.progress, &case.name, duration),
         started: Instant::now(),
+        checkpoints,
+        earlier_rows,
+        checkpoint_error: None,
     };
-    let mut result: RunResult<D> = slosh_run::run_case(
+    let mut result: RunResult<D> = slosh_run::run_case_from(
         &mut sim,
         &plan,
         &mut case.excitation,
         &mut files,
         &mut crate::interrupt::received,
+        resume_state,
     )
     .map_err(|e| anyhow::anyhow!(e))?;
     let failure = failure_of(std::mem::replace(&mut result.status, RunStatus::Finished));
@@ -537,6 +637,13 @@ fn run_built<const D: usize>(
         load_peaks: result.load_peaks.clone(),
         roof_contact,
         roof_note: roof_note(result.roof.has_roof(), roof_contact),
+        resumes: files
+            .checkpoints
+            .as_ref()
+            .map(|c| c.resumes.clone())
+            .unwrap_or_default(),
+        checkpoints_written: files.checkpoints.as_ref().map_or(0, |c| c.written),
+        checkpoint_error: files.checkpoint_error.clone(),
     };
     if result.roof.has_roof() {
         summary.impacts = std::mem::take(&mut result.impacts);

@@ -337,6 +337,14 @@ impl FrameSeries {
         Self { dir, index }
     }
 
+    /// A series that continues one whose index held `entries` (time, file): the next frame
+    /// is numbered after them, and the index lists them first.
+    pub fn continuing(dir: impl AsRef<Path>, entries: &[(f64, String)]) -> Self {
+        let mut series = Self::new(dir);
+        series.index.entries = entries.to_vec();
+        series
+    }
+
     /// Writes the next frame (`frame_NNNNNN.vtp`, numbered from 0) at time `time` (s) and
     /// rewrites the index; returns the frame's path.
     pub fn write_frame(

@@ -47,7 +47,7 @@ pub struct RoofTank {
 }
 
 /// A particle snapshot of a 2D run (positions and pressure), for paper Fig. 7.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RoofSnapshot {
     /// Simulation time (s).
     pub time: f64,
@@ -58,6 +58,7 @@ pub struct RoofSnapshot {
 }
 
 /// Collects the roof pressure map and the 2D snapshots during a run.
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RoofMonitor<const D: usize> {
     /// Load-point indices of the roof, ordered along x.
     points: Vec<usize>,

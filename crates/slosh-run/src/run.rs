@@ -7,7 +7,7 @@ use crate::load_filter::{add_filtered_columns, LoadFilter, LoadPeak};
 use crate::motion::{AfterSettling, GroundMotion, TIME_EPS};
 use crate::roof::{crest, find_impacts, RoofImpact, RoofMonitor, RoofTank, WET_PRESSURE};
 use crate::stepping::{advance, HookError, StepError, StepHooks, StopRequest, Until};
-use slosh_core::{LoadPeaks, PartLoads, Simulation, StepStats};
+use slosh_core::{LoadPeaks, PartLoads, SimState, Simulation, StepStats};
 use std::collections::VecDeque;
 use std::time::Instant;
 
@@ -60,6 +60,18 @@ pub trait Observer<const D: usize> {
 
     /// After each step: the simulated time (s) and the steps taken.
     fn progress(&mut self, _time: f64, _steps: u64) {}
+
+    /// Whether a checkpoint is wanted now, asked after each step (simulated time `time` (s),
+    /// `steps` taken); a run that wants none answers `false`, the default.
+    fn checkpoint_due(&mut self, _time: f64, _steps: u64) -> bool {
+        false
+    }
+
+    /// A checkpoint of the run: after a step where [`Self::checkpoint_due`] said so, when the
+    /// run is stopped by its front end, and at the end of the run.
+    fn checkpoint(&mut self, _state: &RunCheckpoint<D>) -> Result<(), HookError> {
+        Ok(())
+    }
 
     /// The whole series at the end, with the low-pass load columns appended.
     fn series(
@@ -248,7 +260,26 @@ fn overturning_levers<const D: usize>(sim: &Simulation<D>) -> Vec<Vec<f64>> {
     levers
 }
 
+/// Everything a case run continues from: the solver's state and the measurements so far
+/// (the completed series rows, the rows waiting for their time window, the roof map, the
+/// next output and frame times). [`run_case_from`] with it continues the run bit for bit.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct RunCheckpoint<const D: usize> {
+    /// The solver's state.
+    pub sim: SimState<D>,
+    /// The completed series rows, one vector per column.
+    pub series: Vec<Vec<f64>>,
+    pending: Vec<PendingRow>,
+    roof: RoofMonitor<D>,
+    next_output: f64,
+    next_frame: f64,
+    compression: Option<f64>,
+    /// Wall-clock time of the time loop before this checkpoint (s).
+    pub wall_time_s: f64,
+}
+
 /// One series row waiting for its time-windowed loads.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 struct PendingRow {
     step: u64,
     values: Vec<f64>,
@@ -272,9 +303,32 @@ struct CaseMeasurements<'o, const D: usize, O: ?Sized> {
     next_output: f64,
     next_frame: f64,
     compression: Option<f64>,
+    /// Wall time of the loop before this call of the run (s), from a checkpoint.
+    wall_time_before: f64,
+    started: Instant,
 }
 
 impl<const D: usize, O: Observer<D> + ?Sized> CaseMeasurements<'_, D, O> {
+    /// The checkpoint of the run as it stands between two steps.
+    fn checkpoint(&self, sim: &Simulation<D>) -> RunCheckpoint<D> {
+        RunCheckpoint {
+            sim: sim.state(),
+            series: self.series.clone(),
+            pending: self.pending.iter().cloned().collect(),
+            roof: self.roof.clone(),
+            next_output: self.next_output,
+            next_frame: self.next_frame,
+            compression: self.compression,
+            wall_time_s: self.wall_time_before + self.started.elapsed().as_secs_f64(),
+        }
+    }
+
+    /// Hands a checkpoint to the observer.
+    fn write_checkpoint(&mut self, sim: &Simulation<D>) -> Result<(), HookError> {
+        let state = self.checkpoint(sim);
+        self.observer.checkpoint(&state)
+    }
+
     /// Completes a pending row with the loads of its step and hands it on.
     fn complete_row(
         &mut self,
@@ -393,6 +447,9 @@ impl<const D: usize, O: Observer<D> + ?Sized> StepHooks<D> for CaseMeasurements<
     fn after_step(&mut self, sim: &Simulation<D>) -> Result<(), HookError> {
         self.complete_ready_rows(sim)?;
         self.observer.progress(sim.time(), sim.steps());
+        if self.observer.checkpoint_due(sim.time(), sim.steps()) {
+            self.write_checkpoint(sim)?;
+        }
         Ok(())
     }
 }
@@ -409,6 +466,28 @@ pub fn run_case<const D: usize, M, O, S>(
     motion: &mut M,
     observer: &mut O,
     stop: &mut S,
+) -> Result<RunResult<D>, HookError>
+where
+    M: GroundMotion + ?Sized,
+    O: Observer<D> + ?Sized,
+    S: StopRequest + ?Sized,
+{
+    run_case_from(sim, plan, motion, observer, stop, None)
+}
+
+/// [`run_case`], continuing from `resume` when given: `sim` is the simulation built again
+/// from the same case, and the checkpoint's solver state and measurements are put back
+/// before the first step. The observer is given the columns, then only the rows completed
+/// after the checkpoint (a front end that writes files keeps the rows it wrote before), and
+/// the whole series at the end. The finished outputs are bit for bit those of the run done
+/// without interruption.
+pub fn run_case_from<const D: usize, M, O, S>(
+    sim: &mut Simulation<D>,
+    plan: &RunPlan,
+    motion: &mut M,
+    observer: &mut O,
+    stop: &mut S,
+    resume: Option<RunCheckpoint<D>>,
 ) -> Result<RunResult<D>, HookError>
 where
     M: GroundMotion + ?Sized,
@@ -436,9 +515,29 @@ where
         next_output: 0.0,
         next_frame: 0.0,
         compression: None,
+        wall_time_before: 0.0,
+        started: Instant::now(),
         observer,
         plan,
     };
+    if let Some(checkpoint) = resume {
+        if checkpoint.series.len() != names.len() {
+            return Err(HookError::from(format!(
+                "the checkpoint holds {} series columns where this case has {}",
+                checkpoint.series.len(),
+                names.len()
+            )));
+        }
+        sim.restore(checkpoint.sim)
+            .map_err(|e| HookError::from(e.to_string()))?;
+        m.series = checkpoint.series;
+        m.pending = checkpoint.pending.into();
+        m.roof = checkpoint.roof;
+        m.next_output = checkpoint.next_output;
+        m.next_frame = checkpoint.next_frame;
+        m.compression = checkpoint.compression;
+        m.wall_time_before = checkpoint.wall_time_s;
+    }
     let mut motion = AfterSettling {
         settle: plan.settle,
         motion,
@@ -451,13 +550,18 @@ where
         &mut m,
         stop,
     );
-    let wall_time_s = started.elapsed().as_secs_f64();
+    let wall_time_s = m.wall_time_before + started.elapsed().as_secs_f64();
     let status = match outcome {
         Ok(()) => RunStatus::Finished,
         Err(StepError::Hook(e)) => return Err(e),
         Err(StepError::Stopped { code, .. }) => RunStatus::Interrupted { code },
         Err(e) => RunStatus::Failed(e),
     };
+    // The state to continue from (before the time window is closed at the end below): when
+    // the front end stopped the run, and at its end.
+    if !matches!(status, RunStatus::Failed(_)) {
+        m.write_checkpoint(sim)?;
+    }
     // The last N steps: windows cut at the end of the run.
     let mut tail = Vec::new();
     sim.loads_mut()
