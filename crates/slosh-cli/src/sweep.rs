@@ -859,7 +859,8 @@ pub(crate) fn done_before(p: &Planned) -> Option<ReadSummary> {
 
 /// Runs the planned cases of a sweep or an assessment (`what` names it in messages), at most
 /// `jobs` at once (0: one per core), each as a child `slosh run`; a case whose folder already
-/// holds a completed summary with the same parameters is not run again. Returns one result
+/// holds a completed summary with the same parameters is not run again, and one interrupted
+/// with the same parameters and a checkpoint continues from it (`slosh resume`). Returns one result
 /// per planned case, in order; cases a SIGINT/SIGTERM kept from starting are `Interrupted`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn run_planned(
@@ -1014,11 +1015,25 @@ fn run_one(exe: &Path, case: &Path, p: &Planned, threads: usize, allow_read: &[P
     if let Err(e) = std::fs::create_dir_all(&p.dir) {
         return fail(format!("cannot create {}: {e}", p.dir.display()), None);
     }
-    // A stale summary must not stand in for this run if the run fails before writing one.
     let summary_path = p.dir.join("summary.ron");
-    let _ = std::fs::remove_file(&summary_path);
+    // A case interrupted before (a signal, a cluster's time limit and requeue) with these
+    // parameters continues from its checkpoint.
+    let resumable = p.dir.join(crate::checkpoint::CHECKPOINT_DIR).join("state.bin").exists()
+        && read_summary(&summary_path).ok().is_some_and(|s| {
+            s.head.status == "interrupted" && same_parameters(&s.head, &p.expected, &p.values)
+        });
+    if !resumable {
+        // A stale summary must not stand in for this run if the run fails before writing one.
+        let _ = std::fs::remove_file(&summary_path);
+    }
     let log_path = p.dir.join("run.log");
-    let log = match std::fs::File::create(&log_path) {
+    let log = match std::fs::OpenOptions::new()
+        .create(true)
+        .append(resumable)
+        .write(true)
+        .truncate(!resumable)
+        .open(&log_path)
+    {
         Ok(f) => f,
         Err(e) => return fail(format!("cannot create {}: {e}", log_path.display()), None),
     };
@@ -1027,19 +1042,27 @@ fn run_one(exe: &Path, case: &Path, p: &Planned, threads: usize, allow_read: &[P
         Err(e) => return fail(format!("cannot write {}: {e}", log_path.display()), None),
     };
     let mut cmd = Command::new(exe);
-    cmd.arg("run")
-        .arg(case)
-        .arg("--out")
-        .arg(&p.dir)
-        .arg("--quiet")
-        .arg("--threads")
-        .arg(threads.to_string());
-    for dir in allow_read {
-        cmd.arg("--allow-read").arg(dir);
-    }
-    for (name, value) in &p.values {
-        // ParamValue's Display quotes strings, which --set strips: the text round-trips.
-        cmd.arg("--set").arg(format!("{name}={value}"));
+    if resumable {
+        cmd.arg("resume")
+            .arg(&p.dir)
+            .arg("--quiet")
+            .arg("--threads")
+            .arg(threads.to_string());
+    } else {
+        cmd.arg("run")
+            .arg(case)
+            .arg("--out")
+            .arg(&p.dir)
+            .arg("--quiet")
+            .arg("--threads")
+            .arg(threads.to_string());
+        for dir in allow_read {
+            cmd.arg("--allow-read").arg(dir);
+        }
+        for (name, value) in &p.values {
+            // ParamValue's Display quotes strings, which --set strips: the text round-trips.
+            cmd.arg("--set").arg(format!("{name}={value}"));
+        }
     }
     // In a process group of its own, so that a terminal's Ctrl-C reaches the sweep only,
     // which passes it on once (a second SIGINT would stop the case at once).

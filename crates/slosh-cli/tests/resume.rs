@@ -225,3 +225,58 @@ fn resume_refuses_what_it_cannot_continue() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("corrupted"));
 }
+
+#[test]
+fn an_interrupted_sweep_case_continues_from_its_checkpoint() {
+    let dir = temp("sweep");
+    let script = dir.join("case.rhai");
+    std::fs::write(
+        &script,
+        "let amplitude = param(\"amplitude\", 0.005);\n\
+         tank(#{ shape: \"rect\", width: 0.4, height: 0.4, depth: 0.2 });\n\
+         numerics(#{ dx: 0.02 });\n\
+         run(#{ settle: 0.0, duration: 4.0, output_interval: 0.01 });\n\
+         fn ground_accel(t) { amplitude * 25.0 * sin(5.0 * t) }\n",
+    )
+    .unwrap();
+    let out = dir.join("sweep");
+    let args = [
+        "sweep",
+        script.to_str().unwrap(),
+        "--vary",
+        "amplitude=0.005",
+        "--jobs",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let child = slosh(&args).stderr(Stdio::piped()).stdout(Stdio::piped()).spawn().unwrap();
+    // The case folder appears once the sweep starts the case.
+    let start = Instant::now();
+    let case_dir = loop {
+        let found = std::fs::read_dir(&out).ok().and_then(|entries| {
+            entries
+                .filter_map(|e| e.ok())
+                .map(|e| e.path())
+                .find(|p| p.join("series.csv").exists())
+        });
+        if let Some(p) = found {
+            break p;
+        }
+        assert!(start.elapsed() < Duration::from_secs(120), "no case folder");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    wait_for_lines(&case_dir.join("series.csv"), 100);
+    interrupt(&child);
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(130), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(case_dir.join("checkpoint/state.bin").exists());
+
+    let o = slosh(&args).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary = std::fs::read_to_string(case_dir.join("summary.ron")).unwrap();
+    assert!(summary.contains("status: \"completed\""), "{summary}");
+    assert!(summary.contains("from_step:"), "continued from its checkpoint: {summary}");
+    let rows = std::fs::read_to_string(case_dir.join("series.csv")).unwrap().lines().count();
+    assert!(rows > 400, "a header and the rows of 4 s at 0.01 s: {rows} lines");
+}
