@@ -14,11 +14,10 @@ use rayon::prelude::*;
 use slosh_core::{ParticleSetup, TankInterior, PART_BOTTOM, PART_ROOF, PART_WALL};
 
 use crate::error::{check_finite, check_layers, check_positive, GeometryError, MAX_PARTICLES};
+use crate::lattice::{
+    cell_of, lattice_rows_below, part_priority, scale_areas_to_part_totals, NO_PART,
+};
 use crate::mesh::{box_mesh, circle_segments, revolve_profile, SurfaceMesh};
-
-/// Part index given to triangles that produce no wall particles (the virtual lid of an open
-/// tank and the shell above its top).
-const NO_PART: u16 = u16::MAX;
 
 /// The roof of an upright cylindrical tank.
 #[derive(Debug, Clone, PartialEq)]
@@ -78,6 +77,37 @@ impl Roof {
             _ => 0.0,
         }
     }
+}
+
+/// The profile of a spherical-cap roof of `rise` (m) over a shell of radius `radius` whose top
+/// is at `shell_top` (m): (r, z) points from just inside the shell top (excluded) to the crown
+/// (r = 0, z = shell_top + rise), with chord error ≤ `sag` (m) and at least 4 pieces.
+pub(crate) fn dome_profile(radius: f64, shell_top: f64, rise: f64, sag: f64) -> Vec<[f64; 2]> {
+    let (r, h) = (radius, shell_top);
+    let a = (r * r + rise * rise) / (2.0 * rise);
+    let zc = h + rise - a;
+    let theta0 = (r / a).clamp(-1.0, 1.0).asin();
+    let step = 2.0 * (1.0 - (sag / a).min(1.0)).acos();
+    let pieces = ((theta0 / step).ceil() as usize).max(4);
+    (1..=pieces)
+        .map(|k| {
+            let th = theta0 * (1.0 - k as f64 / pieces as f64);
+            let rr = if k == pieces { 0.0 } else { a * th.sin() };
+            let zz = if k == pieces {
+                h + rise
+            } else {
+                zc + a * th.cos()
+            };
+            [rr, zz]
+        })
+        .collect()
+}
+
+/// Arc length of a spherical-cap (dome) profile of `rise` (m) over a half-width `radius` (m),
+/// from the shell top to the crown: a·asin(radius/a), a = (radius² + rise²)/(2 rise).
+pub(crate) fn dome_arc_length(radius: f64, rise: f64) -> f64 {
+    let a = (radius * radius + rise * rise) / (2.0 * rise);
+    a * (radius / a).clamp(-1.0, 1.0).asin()
 }
 
 /// Shape of an internal solid (a fixed obstacle inside the tank), in tank coordinates (m).
@@ -334,23 +364,7 @@ impl CylinderTank {
             }
             Roof::Flat => profile.push([0.0, h]),
             Roof::Cone { apex_height } => profile.push([0.0, h + apex_height]),
-            Roof::Dome { rise } => {
-                let a = (r * r + rise * rise) / (2.0 * rise);
-                let zc = h + rise - a;
-                let theta0 = (r / a).clamp(-1.0, 1.0).asin();
-                let step = 2.0 * (1.0 - (sag / a).min(1.0)).acos();
-                let pieces = ((theta0 / step).ceil() as usize).max(4);
-                for k in 1..=pieces {
-                    let th = theta0 * (1.0 - k as f64 / pieces as f64);
-                    let rr = if k == pieces { 0.0 } else { a * th.sin() };
-                    let zz = if k == pieces {
-                        h + rise
-                    } else {
-                        zc + a * th.cos()
-                    };
-                    profile.push([rr, zz]);
-                }
-            }
+            Roof::Dome { rise } => profile.extend(dome_profile(r, h, *rise, sag)),
             Roof::Mesh(path) => {
                 let mut mesh = SurfaceMesh::read(path)?;
                 let name = path.display().to_string();
@@ -618,7 +632,7 @@ enum RegionShape {
 /// The tilted initial surface: elevation above the fill level per unit tilt, as a function of
 /// the horizontal position.
 #[derive(Debug, Clone, Copy)]
-enum TiltShape {
+pub(crate) enum TiltShape {
     /// Plane: +1 at x = span[0], −1 at x = span[1].
     Plane { span: [f64; 2] },
     /// First cylinder mode: −(x/r) J₁(ξ₁ r/R)/J₁(ξ₁) (+1 at x = −R).
@@ -629,7 +643,7 @@ enum TiltShape {
 
 impl TiltShape {
     /// Elevation per unit tilt at (x, y) (m/m).
-    fn at(&self, x: f64, y: f64) -> f64 {
+    pub(crate) fn at(&self, x: f64, y: f64) -> f64 {
         match *self {
             TiltShape::Plane { span } => 1.0 - 2.0 * (x - span[0]) / (span[1] - span[0]),
             TiltShape::Cosine { span } => {
@@ -648,7 +662,7 @@ impl TiltShape {
     }
 
     /// Range of x the shape is defined over (m).
-    fn span(&self) -> [f64; 2] {
+    pub(crate) fn span(&self) -> [f64; 2] {
         match *self {
             TiltShape::Plane { span } | TiltShape::Cosine { span } => span,
             TiltShape::CylinderMode { radius } => [-radius, radius],
@@ -808,13 +822,7 @@ impl Boundary {
         }
         // Several parts meet here: the part of the nearest face plane; ties go to the part of
         // higher priority (roof over wall over bottom), as in the 2D ring corners.
-        let priority = |p: u16| match p {
-            NO_PART => 0,
-            0 => 1,
-            1 => 2,
-            2 => 3,
-            _ => 4,
-        };
+        let priority = part_priority;
         let mut best: Option<(f64, u16, u32)> = None;
         for &k in &cands {
             let tri = self.mesh.triangle(k);
@@ -975,11 +983,6 @@ struct TriangleSamples {
     assigned: Vec<(u32, f64)>,
 }
 
-/// Lattice index of the cell-centred point nearest to coordinate `c` (m).
-fn cell_of(c: f64, dx: f64) -> i64 {
-    (c / dx - 0.5).round() as i64
-}
-
 /// Turns a closed tank surface into particles on the cubic lattice ((i+½)dx, (j+½)dx, (k+½)dx).
 ///
 /// Rules:
@@ -1004,12 +1007,7 @@ fn build_mesh_tank(spec: &MeshTankSpec, dx: f64) -> Result<ParticleSetup<3>, Geo
     let (lo, hi) = spec.surface.bounds();
     let top = hi[2];
     // fill level and checks
-    let ratio = spec.fill_depth / dx;
-    let rows = if (ratio - ratio.round()).abs() < 1e-6 {
-        ratio.round()
-    } else {
-        (ratio - 0.5).ceil().max(0.0)
-    };
+    let rows = lattice_rows_below(spec.fill_depth, dx);
     if rows < 1.0 {
         return Err(GeometryError::SpacingAboveFill {
             dx,
@@ -1417,18 +1415,7 @@ fn build_mesh_tank(spec: &MeshTankSpec, dx: f64) -> Result<ParticleSetup<3>, Geo
             }
         }
     }
-    let scale: Vec<f64> = (0..n_parts)
-        .map(|p| {
-            if assigned_area[p] > 0.0 {
-                target[p] / assigned_area[p]
-            } else {
-                0.0
-            }
-        })
-        .collect();
-    for (w, a) in wall_area.iter_mut().enumerate() {
-        *a *= scale[wall_part[w] as usize];
-    }
+    scale_areas_to_part_totals(&mut wall_area, &wall_part, &assigned_area, &target);
 
     let mesh = Arc::new(tank.mesh.clone());
     Ok(ParticleSetup {
