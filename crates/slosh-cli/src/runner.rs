@@ -113,6 +113,9 @@ pub struct Summary {
     pub tank_requested: TankSpec,
     /// How the lattice changed the tank or dx (empty when it fits exactly).
     pub lattice_notes: Vec<String>,
+    /// The tank's wall parts: name and the boundary area its particles stand for (m²; 2D m
+    /// per m of depth), e.g. ("roof", 24.19) for the cone roof of a 24 m section.
+    pub parts: Vec<(String, f64)>,
     /// Tait stiffness B used (Pa).
     pub eos_b: f64,
     /// The rule that chose c0 and B.
@@ -306,6 +309,7 @@ fn simulated_tank<const D: usize>(sim: &Simulation<D>, fit: &mut build::FittedTa
     if !paper_layout {
         let depth = match &mut tank {
             TankSpec::Rect { depth, .. }
+            | TankSpec::Section { depth, .. }
             | TankSpec::Cylinder { depth, .. }
             | TankSpec::Box { depth, .. } => depth,
         };
@@ -319,6 +323,27 @@ fn simulated_tank<const D: usize>(sim: &Simulation<D>, fit: &mut build::FittedTa
         }
     }
     tank
+}
+
+/// The left and right wall gauges of a 2D section whose walls need not be vertical (a
+/// polygon, a circle): one lattice spacing inside the liquid's extent at mid-depth (the
+/// gauge's reference height), where the vertical line holds liquid from mid-depth up.
+fn section_wall_gauges<const D: usize>(sim: &Simulation<D>) -> (Vec<f64>, Vec<f64>) {
+    let (lo, hi) = sim.interior_bounds();
+    let dx = sim.spacing();
+    let floor = lo[D - 1];
+    let mid_depth = floor + 0.5 * (sim.fill_level() - floor);
+    let (mut left, mut right) = (hi[0], lo[0]);
+    for x in &sim.fluid().position {
+        if (x[D - 1] - mid_depth).abs() <= dx {
+            left = left.min(x[0]);
+            right = right.max(x[0]);
+        }
+    }
+    if left > right {
+        return wall_gauges(sim);
+    }
+    (vec![left + dx], vec![right - dx])
 }
 
 /// Horizontal positions of the left and right wall gauges: on the x axis, one lattice
@@ -343,6 +368,10 @@ fn theory_numbers(tank: &TankSpec, gravity: f64) -> TheoryNumbers {
     let omega_1 = match tank {
         TankSpec::Rect { width, depth, .. } => {
             natural::rectangular_omega(*width, *depth, gravity, 1)
+        }
+        // an estimate: the rectangle of the section's width and the liquid depth
+        TankSpec::Section { depth, .. } => {
+            natural::rectangular_omega(tank.horizontal_size(), *depth, gravity, 1)
         }
         TankSpec::Box { length, depth, .. } => {
             natural::rectangular_omega(*length, *depth, gravity, 1)
@@ -418,7 +447,10 @@ fn run_loop<const D: usize>(
     } else {
         None
     };
-    let (left, right) = wall_gauges(&sim);
+    let (left, right) = match &case.tank {
+        TankSpec::Section { .. } => section_wall_gauges(&sim),
+        _ => wall_gauges(&sim),
+    };
     let fill = sim.still_level();
     let roof_part = sim.part_names().iter().position(|n| n == "roof");
     let wall_part = sim.part_names().iter().position(|n| n == "wall");
@@ -701,6 +733,19 @@ fn run_loop<const D: usize>(
         tank,
         tank_requested: case.tank.clone(),
         lattice_notes: fit.notes.clone(),
+        parts: sim
+            .part_names()
+            .iter()
+            .enumerate()
+            .map(|(k, name)| {
+                let walls = sim.walls();
+                let area = (walls.part.iter().zip(&walls.area))
+                    .filter(|(&p, _)| p as usize == k)
+                    .map(|(_, a)| a)
+                    .sum();
+                (name.clone(), area)
+            })
+            .collect(),
         still_level: sim.still_level(),
         eos_b: choice.eos_stiffness,
         sound_speed_rule: choice.rule.clone(),
@@ -962,6 +1007,10 @@ fn roof_tank(tank: &TankSpec, params: &SphParams, omega_1: f64) -> crate::roof::
             depth,
             ..
         } => (*depth, *height, 0.5 * width),
+        TankSpec::Section { outline, depth, .. } => {
+            let (lo, hi) = outline.bounds();
+            (*depth, hi[1] - lo[1], 0.5 * (hi[0] - lo[0]))
+        }
         TankSpec::Cylinder {
             radius,
             height,
