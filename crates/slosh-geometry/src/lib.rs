@@ -79,7 +79,9 @@ impl InitialSurface {
 pub use error::{GeometryError, MAX_PARTICLES};
 pub use mesh::{box_mesh, circle_segments, revolve_profile, SurfaceMesh};
 pub use rect2::{Layout, RectInterior2, RectLattice2, RectTank2};
-pub use section2::{SectionOutline, SectionRegion2, SectionRoof, SectionShape, SectionTank2};
+pub use section2::{
+    bounding_box_2d, SectionOutline, SectionRegion2, SectionRoof, SectionShape, SectionTank2,
+};
 pub use tank3::{BoxTank, CylinderTank, InternalSolid, Roof, SolidShape, TankRegion3};
 
 /// Writes the closed interior surface of a cylinder of `radius` and `shell_height` (m) with

@@ -129,15 +129,7 @@ impl SectionOutline {
 
     /// Lowest and highest corner of the bounding box (m).
     pub fn bounds(&self) -> ([f64; 2], [f64; 2]) {
-        let mut lo = [f64::INFINITY; 2];
-        let mut hi = [f64::NEG_INFINITY; 2];
-        for v in &self.vertices {
-            for a in 0..2 {
-                lo[a] = lo[a].min(v[a]);
-                hi[a] = hi[a].max(v[a]);
-            }
-        }
-        (lo, hi)
+        bounding_box_2d(&self.vertices)
     }
 
     /// Unit normal of side `k`, pointing out of the liquid.
@@ -158,6 +150,19 @@ impl SectionOutline {
         let indices = (0..n).map(|k| [k, (k + 1) % n]).collect();
         Polyline::new(vertices, Some(indices))
     }
+}
+
+/// Lowest and highest corner of the bounding box of `points` (m); infinite when empty.
+pub fn bounding_box_2d(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for v in points {
+        for a in 0..2 {
+            lo[a] = lo[a].min(v[a]);
+            hi[a] = hi[a].max(v[a]);
+        }
+    }
+    (lo, hi)
 }
 
 /// Part of a side from the direction `normal` it faces out of the liquid: roof within 45° of
@@ -427,7 +432,10 @@ impl SectionTank2 {
                 size: min_size,
             });
         }
-        let fill_level = lattice_rows_below(lo[1] + self.fill_depth, dx) * dx;
+        // rows counted from the lattice level at or below the lowest point (outlines may
+        // reach below y = 0)
+        let base = (lo[1] / dx).floor().min(0.0) * dx;
+        let fill_level = base + lattice_rows_below(lo[1] + self.fill_depth - base, dx) * dx;
         let tilt = self.initial_tilt;
         if fill_level - tilt.abs() < lo[1] {
             return Err(GeometryError::TiltTooLarge {
@@ -806,6 +814,21 @@ mod tests {
             .unwrap();
         assert_eq!(other.fluid_positions, setup.fluid_positions);
         assert_eq!(other.wall_positions, setup.wall_positions);
+    }
+
+    #[test]
+    fn outline_below_the_origin_holds_its_depth() {
+        // a 1 m square from y = −0.7 m, 0.5 m of liquid: still level −0.2 m, 10 rows × 20
+        let square = vec![[-0.3, -0.7], [0.7, -0.7], [0.7, 0.3], [-0.3, 0.3]];
+        let setup = SectionTank2::new(SectionShape::Polygon(square), 0.5)
+            .build(0.05)
+            .unwrap();
+        assert!(
+            (setup.fill_level + 0.2).abs() < 1e-9,
+            "{}",
+            setup.fill_level
+        );
+        assert_eq!(setup.fluid_positions.len(), 10 * 20);
     }
 
     #[test]

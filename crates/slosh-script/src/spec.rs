@@ -6,7 +6,7 @@ use slosh_core::{
     ArtificialSoundSpeed, BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, KernelKind,
     NeighbourBackend, SoundSpeedRule, SphParams, WallPressureMethod,
 };
-use slosh_geometry::{InitialSurface, SectionRoof, SectionShape, SectionTank2};
+use slosh_geometry::{bounding_box_2d, InitialSurface, SectionRoof, SectionShape, SectionTank2};
 use std::collections::BTreeSet;
 
 /// Reads the keys of a Rhai map, remembering which were used so that unknown keys (typos)
@@ -236,17 +236,7 @@ impl SectionOutlineSpec {
     pub fn bounds(&self) -> ([f64; 2], [f64; 2]) {
         match self {
             SectionOutlineSpec::Circle { radius } => ([0.0, 0.0], [2.0 * radius, 2.0 * radius]),
-            SectionOutlineSpec::Polygon(points) => {
-                let mut lo = [f64::INFINITY; 2];
-                let mut hi = [f64::NEG_INFINITY; 2];
-                for p in points {
-                    for a in 0..2 {
-                        lo[a] = lo[a].min(p[a]);
-                        hi[a] = hi[a].max(p[a]);
-                    }
-                }
-                (lo, hi)
-            }
+            SectionOutlineSpec::Polygon(points) => bounding_box_2d(points),
         }
     }
 }
