@@ -35,17 +35,6 @@ pub enum SectionRoof {
     Outline(Vec<[f64; 2]>),
 }
 
-impl SectionRoof {
-    /// Parses `"cone"` or `"dome"` with the rise `rise` (m); `None` for anything else.
-    pub fn from_name(name: &str, rise: f64) -> Option<SectionRoof> {
-        match name.trim().to_ascii_lowercase().as_str() {
-            "cone" => Some(SectionRoof::Cone { apex_height: rise }),
-            "dome" => Some(SectionRoof::Dome { rise }),
-            _ => None,
-        }
-    }
-}
-
 /// The outline of a [`SectionTank2`].
 #[derive(Debug, Clone, PartialEq)]
 pub enum SectionShape {

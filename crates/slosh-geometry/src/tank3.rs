@@ -822,7 +822,6 @@ impl Boundary {
         }
         // Several parts meet here: the part of the nearest face plane; ties go to the part of
         // higher priority (roof over wall over bottom), as in the 2D ring corners.
-        let priority = part_priority;
         let mut best: Option<(f64, u16, u32)> = None;
         for &k in &cands {
             let tri = self.mesh.triangle(k);
@@ -832,7 +831,8 @@ impl Boundary {
             let better = match best {
                 None => true,
                 Some((bd, bp, _)) => {
-                    plane < bd - tol || (plane <= bd + tol && priority(part) > priority(bp))
+                    plane < bd - tol
+                        || (plane <= bd + tol && part_priority(part) > part_priority(bp))
                 }
             };
             if better {
