@@ -267,6 +267,10 @@ fn list_params_prints_the_declared_parameters() {
     ] {
         assert!(text.contains(name), "missing {name} in\n{text}");
     }
+    assert!(
+        text.contains("wall parts") && text.contains("the flat roof"),
+        "parts in\n{text}"
+    );
     let width = text.lines().find(|l| l.starts_with("width ")).unwrap();
     assert!(
         width.contains(" m ") && width.contains("inner tank width"),

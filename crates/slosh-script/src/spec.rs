@@ -332,6 +332,76 @@ impl TankSpec {
         }
     }
 
+    /// The wall parts whose loads are reported (`bottom`, `wall`, `roof`), each with what it
+    /// is on this tank.
+    pub fn part_descriptions(&self) -> Vec<(&'static str, String)> {
+        let none = || "none (open tank)".to_string();
+        let by_facing = |down: &str, side: &str, up: &str| {
+            vec![
+                ("bottom", down.to_string()),
+                ("wall", side.to_string()),
+                ("roof", up.to_string()),
+            ]
+        };
+        match self {
+            TankSpec::Rect {
+                roof, roof_shape, ..
+            } => {
+                let roof = match (roof, roof_shape) {
+                    (false, _) => none(),
+                    (true, None) => "the flat roof".into(),
+                    (true, Some(SectionRoofSpec::Cone { .. })) => {
+                        "the cone roof's two slopes".into()
+                    }
+                    (true, Some(SectionRoofSpec::Dome { .. })) => "the dome roof's arc".into(),
+                    (true, Some(SectionRoofSpec::Outline(_))) => "the roof polyline".into(),
+                };
+                vec![
+                    ("bottom", "the floor".into()),
+                    ("wall", "the two side walls".into()),
+                    ("roof", roof),
+                ]
+            }
+            TankSpec::Section {
+                outline: SectionOutlineSpec::Circle { .. },
+                ..
+            } => by_facing(
+                "the lower quarter of the circle",
+                "the two side quarters",
+                "the upper quarter",
+            ),
+            TankSpec::Section { .. } => by_facing(
+                "sides facing within 45° of straight down",
+                "the other sides",
+                "sides facing within 45° of straight up",
+            ),
+            TankSpec::Cylinder { roof, .. } => vec![
+                ("bottom", "the floor".into()),
+                ("wall", "the cylindrical shell".into()),
+                (
+                    "roof",
+                    if roof == "none" || roof == "open" {
+                        none()
+                    } else {
+                        format!("the {roof} roof")
+                    },
+                ),
+            ],
+            TankSpec::Box { roof, .. } => vec![
+                ("bottom", "the floor".into()),
+                ("wall", "the four side walls".into()),
+                (
+                    "roof",
+                    if *roof {
+                        "the flat roof".into()
+                    } else {
+                        none()
+                    },
+                ),
+            ],
+        }
+    }
+
     /// The 2D tank built by [`SectionTank2`]: a rectangle with a cone, dome or polyline roof,
     /// a polygon or a circle; `None` for the flat-roofed or open rectangle (built by
     /// `RectTank2`) and the 3D tanks. Errors for a roof shape with the paper layout.
