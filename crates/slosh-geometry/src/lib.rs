@@ -9,6 +9,7 @@
 //!   ([`SectionRoof`]), a simple polygon, or a circle (horizontal cylindrical tank), built by
 //!   the 2D form of the 3D rules below with the outline as a parry2d `Polyline`.
 //! * [`BoxTank`]: a 3D rectangular box, to compare 2D and 3D runs.
+//! * [`SphereTank`]: a spherical tank, parts by the way its surface faces.
 //! * [`SurfaceMesh`]: OBJ/STL reading, OBJ writing, closedness checks, procedural meshes
 //!   ([`cylinder_roof_mesh_obj`] writes the example files of `geometry/`).
 //!
@@ -82,7 +83,7 @@ pub use rect2::{Layout, RectInterior2, RectLattice2, RectTank2};
 pub use section2::{
     bounding_box_2d, SectionOutline, SectionRegion2, SectionRoof, SectionShape, SectionTank2,
 };
-pub use tank3::{BoxTank, CylinderTank, InternalSolid, Roof, SolidShape, TankRegion3};
+pub use tank3::{BoxTank, CylinderTank, InternalSolid, Roof, SolidShape, SphereTank, TankRegion3};
 
 /// Writes the closed interior surface of a cylinder of `radius` and `shell_height` (m) with
 /// `roof` (not `Roof::Mesh`/`Roof::None`) to an OBJ file at `path`, using facets no wider than

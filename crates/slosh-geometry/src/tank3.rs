@@ -615,6 +615,119 @@ impl BoxTank {
     }
 }
 
+/// A spherical tank of inner radius `radius` (m), centre on the axis at z = radius (the lowest
+/// point at z = 0). Parts by the way the surface faces out of the liquid: `roof` within 45° of
+/// straight up (the polar cap above latitude 45°), `bottom` within 45° of straight down, `wall`
+/// the zone between; their areas are the spherical zones 2πR²(1 − 1/√2), 2√2 πR² and
+/// 2πR²(1 − 1/√2) (Archimedes: a zone's area is 2πR times its height).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SphereTank {
+    /// Inner radius R (m).
+    pub radius: f64,
+    /// Still liquid depth above the lowest point (m).
+    pub fill_depth: f64,
+    /// Number of wall particle layers (default 3).
+    pub layers: u8,
+    /// Initial free-surface tilt along x: elevation above the still level at x = −R (m).
+    pub initial_tilt: f64,
+    /// Shape of the tilted surface (plane by default; the first mode is the rectangle's
+    /// cos(πξ) across the diameter).
+    pub initial_shape: crate::InitialSurface,
+}
+
+impl SphereTank {
+    /// A sphere of `radius` filled to `fill_depth` (m), 3 wall layers, no tilt.
+    pub fn new(radius: f64, fill_depth: f64) -> Self {
+        SphereTank {
+            radius,
+            fill_depth,
+            layers: 3,
+            initial_tilt: 0.0,
+            initial_shape: crate::InitialSurface::Plane,
+        }
+    }
+
+    /// Sets the initial free-surface tilt (m, elevation at x = −R).
+    pub fn with_initial_tilt(mut self, tilt: f64) -> Self {
+        self.initial_tilt = tilt;
+        self
+    }
+
+    /// Sets the shape of the tilted initial surface.
+    pub fn with_initial_shape(mut self, shape: crate::InitialSurface) -> Self {
+        self.initial_shape = shape;
+        self
+    }
+
+    /// Builds the initial particles for spacing `dx` (m), following the 3D rules in the crate
+    /// documentation, with the parts by facing described on the type.
+    pub fn build(&self, dx: f64) -> Result<ParticleSetup<3>, GeometryError> {
+        let r = self.radius;
+        check_positive("tank radius", r)?;
+        check_positive("fill depth", self.fill_depth)?;
+        check_positive("particle spacing dx", dx)?;
+        check_finite("initial tilt", self.initial_tilt)?;
+        check_layers(self.layers)?;
+        if dx > r {
+            return Err(GeometryError::SpacingTooLarge {
+                dx,
+                what: "radius",
+                size: r,
+            });
+        }
+        // meridian from the lowest to the highest point, with vertices on latitudes ±45° so
+        // that no facet straddles two parts
+        let sag = 1e-3 * dx;
+        let n = circle_segments(r, dx, sag).div_ceil(8) * 8;
+        let profile: Vec<[f64; 2]> = (0..=n / 2)
+            .map(|k| {
+                let phi = -0.5 * PI + PI * k as f64 / (n / 2) as f64;
+                let rr = if k == 0 || k == n / 2 {
+                    0.0
+                } else {
+                    r * phi.cos()
+                };
+                [rr, r + r * phi.sin()]
+            })
+            .collect();
+        let surface = revolve_profile(&profile, false, n, dx);
+        let triangle_parts = surface
+            .triangles
+            .iter()
+            .map(|t| {
+                let v = t.map(|i| PVec3::from(surface.vertices[i as usize]));
+                let nz = (v[1] - v[0]).cross(v[2] - v[0]).normalize_or_zero().z;
+                if nz > std::f64::consts::FRAC_1_SQRT_2 {
+                    2
+                } else if nz < -std::f64::consts::FRAC_1_SQRT_2 {
+                    0
+                } else {
+                    1
+                }
+            })
+            .collect();
+        let cap = 2.0 * PI * r * r * (1.0 - std::f64::consts::FRAC_1_SQRT_2);
+        let spec = MeshTankSpec {
+            surface,
+            shell_height: 2.0 * r,
+            open: false,
+            fill_depth: self.fill_depth,
+            initial_tilt: self.initial_tilt,
+            tilt_shape: match self.initial_shape {
+                crate::InitialSurface::Plane => TiltShape::Plane { span: [-r, r] },
+                crate::InitialSurface::FirstMode => TiltShape::Cosine { span: [-r, r] },
+            },
+            layers: self.layers,
+            solids: Vec::new(),
+            analytic_part_area: [Some(cap), Some(4.0 * PI * r * r - 2.0 * cap), Some(cap)],
+            interior_min: [-r, -r, 0.0],
+            interior_max: [r, r, 2.0 * r],
+            region: RegionShape::Mesh,
+        };
+        build_mesh_tank_with_parts(&spec, Some(triangle_parts), dx)
+    }
+}
+
 /// The exact shape used by [`TankInterior::contains`] (fast analytic tests where possible).
 #[derive(Debug, Clone)]
 enum RegionShape {
@@ -1002,6 +1115,16 @@ struct TriangleSamples {
 ///   scaled so they sum to the part's exact area (analytic for the built-in shapes, the
 ///   wetted mesh area otherwise). Other particles get 0.
 fn build_mesh_tank(spec: &MeshTankSpec, dx: f64) -> Result<ParticleSetup<3>, GeometryError> {
+    build_mesh_tank_with_parts(spec, None, dx)
+}
+
+/// [`build_mesh_tank`] with the part of each surface triangle given (`None`: floor, shell and
+/// roof by height, [`tag_tank_triangles`]).
+fn build_mesh_tank_with_parts(
+    spec: &MeshTankSpec,
+    triangle_parts: Option<Vec<u16>>,
+    dx: f64,
+) -> Result<ParticleSetup<3>, GeometryError> {
     let layers = spec.layers;
     let reach = layers as f64 * dx + 1e-6 * dx;
     let (lo, hi) = spec.surface.bounds();
@@ -1072,7 +1195,8 @@ fn build_mesh_tank(spec: &MeshTankSpec, dx: f64) -> Result<ParticleSetup<3>, Geo
     // boundaries
     let tank = Boundary::new(
         &spec.surface,
-        tag_tank_triangles(&spec.surface, spec.shell_height, spec.open),
+        triangle_parts
+            .unwrap_or_else(|| tag_tank_triangles(&spec.surface, spec.shell_height, spec.open)),
         false,
     )?;
     let mut part_names: Vec<String> = vec![PART_BOTTOM.into(), PART_WALL.into(), PART_ROOF.into()];
