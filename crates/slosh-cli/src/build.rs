@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context, Result};
 use slosh_core::ParticleSetup;
-use slosh_geometry::{BoxTank, CylinderTank, InitialSurface, Layout, RectTank2, Roof};
+use slosh_geometry::{BoxTank, CylinderTank, InitialSurface, Layout, RectTank2, Roof, SphereTank};
 use slosh_script::{ReadSandbox, TankSpec};
 
 /// The geometry's initial-surface shape from its script name ("plane" or "mode1").
@@ -96,7 +96,7 @@ pub fn fit_to_lattice(tank: &TankSpec, dx: f64) -> Result<FittedTank> {
             *height = level("tank height", *height, dx, &mut notes);
             dx
         }
-        TankSpec::Cylinder { .. } | TankSpec::Section { .. } => dx,
+        TankSpec::Cylinder { .. } | TankSpec::Section { .. } | TankSpec::Sphere { .. } => dx,
     };
     // Keep a fill that was within the shell within the fitted shell (a fill above the shell
     // as given is the geometry's error to report).
@@ -110,7 +110,7 @@ pub fn fit_to_lattice(tank: &TankSpec, dx: f64) -> Result<FittedTank> {
                 *depth = *height;
             }
         }
-        TankSpec::Cylinder { .. } | TankSpec::Section { .. } => {}
+        TankSpec::Cylinder { .. } | TankSpec::Section { .. } | TankSpec::Sphere { .. } => {}
     }
     Ok(FittedTank {
         tank: fitted,
@@ -129,6 +129,7 @@ fn tank_height(tank: &TankSpec) -> f64 {
             let (lo, hi) = outline.bounds();
             hi[1] - lo[1]
         }
+        TankSpec::Sphere { radius, .. } => 2.0 * radius,
     }
 }
 
@@ -201,6 +202,15 @@ pub fn build_3d(tank: &TankSpec, dx: f64, sandbox: &ReadSandbox) -> Result<Parti
             tilt_shape,
         } => Ok(BoxTank::new(*length, *breadth, *height, *depth)
             .with_roof(*roof)
+            .with_initial_tilt(*tilt)
+            .with_initial_shape(initial_surface(tilt_shape))
+            .build(dx)?),
+        TankSpec::Sphere {
+            radius,
+            depth,
+            tilt,
+            tilt_shape,
+        } => Ok(SphereTank::new(*radius, *depth)
             .with_initial_tilt(*tilt)
             .with_initial_shape(initial_surface(tilt_shape))
             .build(dx)?),

@@ -310,6 +310,7 @@ fn simulated_tank<const D: usize>(sim: &Simulation<D>, fit: &mut build::FittedTa
         let depth = match &mut tank {
             TankSpec::Rect { depth, .. }
             | TankSpec::Section { depth, .. }
+            | TankSpec::Sphere { depth, .. }
             | TankSpec::Cylinder { depth, .. }
             | TankSpec::Box { depth, .. } => depth,
         };
@@ -325,25 +326,29 @@ fn simulated_tank<const D: usize>(sim: &Simulation<D>, fit: &mut build::FittedTa
     tank
 }
 
-/// The left and right wall gauges of a 2D section whose walls need not be vertical (a
-/// polygon, a circle): one lattice spacing inside the liquid's extent at mid-depth (the
-/// gauge's reference height), where the vertical line holds liquid from mid-depth up.
-fn section_wall_gauges<const D: usize>(sim: &Simulation<D>) -> (Vec<f64>, Vec<f64>) {
+/// The left and right wall gauges of a tank whose walls need not be vertical (a polygon or
+/// circle section, a sphere): on the x axis through the centre, one lattice spacing inside the
+/// liquid's extent at mid-depth (the gauge's reference height), where the vertical line holds
+/// liquid from mid-depth up.
+fn liquid_edge_gauges<const D: usize>(sim: &Simulation<D>) -> (Vec<f64>, Vec<f64>) {
     let (lo, hi) = sim.interior_bounds();
     let dx = sim.spacing();
     let floor = lo[D - 1];
     let mid_depth = floor + 0.5 * (sim.fill_level() - floor);
+    let on_axis = |x: &Vector<D>| (1..D - 1).all(|k| (x[k] - 0.5 * (lo[k] + hi[k])).abs() <= dx);
     let (mut left, mut right) = (hi[0], lo[0]);
     for x in &sim.fluid().position {
-        if (x[D - 1] - mid_depth).abs() <= dx {
+        if (x[D - 1] - mid_depth).abs() <= dx && on_axis(x) {
             left = left.min(x[0]);
             right = right.max(x[0]);
         }
     }
-    if left > right {
-        return wall_gauges(sim);
+    let (mut left_gauge, mut right_gauge) = wall_gauges(sim);
+    if left <= right {
+        left_gauge[0] = left + dx;
+        right_gauge[0] = right - dx;
     }
-    (vec![left + dx], vec![right - dx])
+    (left_gauge, right_gauge)
 }
 
 /// Horizontal positions of the left and right wall gauges: on the x axis, one lattice
@@ -377,6 +382,10 @@ fn theory_numbers(tank: &TankSpec, gravity: f64) -> TheoryNumbers {
             natural::rectangular_omega(*length, *depth, gravity, 1)
         }
         TankSpec::Cylinder { radius, depth, .. } => {
+            natural::cylinder_omega(*radius, *depth, gravity, 1, 1)
+        }
+        // an estimate: the upright cylinder of the sphere's radius and the liquid depth
+        TankSpec::Sphere { radius, depth, .. } => {
             natural::cylinder_omega(*radius, *depth, gravity, 1, 1)
         }
     };
@@ -448,7 +457,7 @@ fn run_loop<const D: usize>(
         None
     };
     let (left, right) = match &case.tank {
-        TankSpec::Section { .. } => section_wall_gauges(&sim),
+        TankSpec::Section { .. } | TankSpec::Sphere { .. } => liquid_edge_gauges(&sim),
         _ => wall_gauges(&sim),
     };
     let fill = sim.still_level();
@@ -1011,6 +1020,7 @@ fn roof_tank(tank: &TankSpec, params: &SphParams, omega_1: f64) -> crate::roof::
             let (lo, hi) = outline.bounds();
             (*depth, hi[1] - lo[1], 0.5 * (hi[0] - lo[0]))
         }
+        TankSpec::Sphere { radius, depth, .. } => (*depth, 2.0 * radius, *radius),
         TankSpec::Cylinder {
             radius,
             height,

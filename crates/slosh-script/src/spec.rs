@@ -200,6 +200,17 @@ pub enum TankSpec {
         /// Shape of the tilted surface: `"plane"` or `"mode1"` (first sloshing mode).
         tilt_shape: String,
     },
+    /// 3D spherical tank, centre on the vertical axis at z = radius.
+    Sphere {
+        /// Inner radius R (m).
+        radius: f64,
+        /// Still liquid depth above the lowest point (m).
+        depth: f64,
+        /// Initial free-surface elevation at x = −R (m).
+        tilt: f64,
+        /// Shape of the tilted surface: `"plane"` or `"mode1"` (first sloshing mode).
+        tilt_shape: String,
+    },
 }
 
 /// A 2D section's roof other than flat or none.
@@ -304,7 +315,8 @@ impl TankSpec {
             TankSpec::Rect { depth, .. }
             | TankSpec::Section { depth, .. }
             | TankSpec::Cylinder { depth, .. }
-            | TankSpec::Box { depth, .. } => *depth,
+            | TankSpec::Box { depth, .. }
+            | TankSpec::Sphere { depth, .. } => *depth,
         }
     }
 
@@ -320,7 +332,7 @@ impl TankSpec {
             TankSpec::Box {
                 length, breadth, ..
             } => length.max(*breadth),
-            TankSpec::Cylinder { radius, .. } => 2.0 * radius,
+            TankSpec::Cylinder { radius, .. } | TankSpec::Sphere { radius, .. } => 2.0 * radius,
         }
     }
 
@@ -387,6 +399,11 @@ impl TankSpec {
                     },
                 ),
             ],
+            TankSpec::Sphere { .. } => by_facing(
+                "the cap within 45° of the lowest point",
+                "the zone between latitudes −45° and 45°",
+                "the cap within 45° of the highest point",
+            ),
             TankSpec::Box { roof, .. } => vec![
                 ("bottom", "the floor".into()),
                 ("wall", "the four side walls".into()),
@@ -519,9 +536,15 @@ impl TankSpec {
                 tilt: r.f64_or("tilt", 0.0)?,
                 tilt_shape: tilt_shape(&mut r)?,
             },
+            "sphere" => TankSpec::Sphere {
+                radius: r.f64_or("radius", 0.5)?,
+                depth: r.f64_or("depth", 0.5)?,
+                tilt: r.f64_or("tilt", 0.0)?,
+                tilt_shape: tilt_shape(&mut r)?,
+            },
             other => {
                 return Err(format!(
-                    "tank: unknown shape \"{other}\" (use \"rect\", \"polygon\", \"circle\", \"cylinder\" or \"box\")"
+                    "tank: unknown shape \"{other}\" (use \"rect\", \"polygon\", \"circle\", \"cylinder\", \"box\" or \"sphere\")"
                 ))
             }
         };
@@ -1047,6 +1070,13 @@ mod tests {
         .unwrap();
         assert_eq!(circle.dim(), 2);
         assert_eq!(circle.horizontal_size(), 4.0);
+        let sphere = tank(vec![
+            ("shape", Dynamic::from("sphere")),
+            ("radius", Dynamic::from(2.0)),
+        ])
+        .unwrap();
+        assert_eq!((sphere.dim(), sphere.horizontal_size()), (3, 4.0));
+        assert!(sphere.section_tank().unwrap().is_none());
         // a self-intersecting outline is refused naming its sides
         let bow_tie = vec![
             point(0.0, 0.0),
