@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context, Result};
 use slosh_core::ParticleSetup;
-use slosh_geometry::{BoxTank, CylinderTank, InitialSurface, Layout, RectTank2, Roof};
+use slosh_geometry::{BoxTank, CylinderTank, InitialSurface, Layout, RectTank2, Roof, SphereTank};
 use slosh_script::{ReadSandbox, TankSpec};
 
 /// The geometry's initial-surface shape from its script name ("plane" or "mode1").
@@ -96,7 +96,7 @@ pub fn fit_to_lattice(tank: &TankSpec, dx: f64) -> Result<FittedTank> {
             *height = level("tank height", *height, dx, &mut notes);
             dx
         }
-        TankSpec::Cylinder { .. } => dx,
+        TankSpec::Cylinder { .. } | TankSpec::Section { .. } | TankSpec::Sphere { .. } => dx,
     };
     // Keep a fill that was within the shell within the fitted shell (a fill above the shell
     // as given is the geometry's error to report).
@@ -110,7 +110,7 @@ pub fn fit_to_lattice(tank: &TankSpec, dx: f64) -> Result<FittedTank> {
                 *depth = *height;
             }
         }
-        TankSpec::Cylinder { .. } => {}
+        TankSpec::Cylinder { .. } | TankSpec::Section { .. } | TankSpec::Sphere { .. } => {}
     }
     Ok(FittedTank {
         tank: fitted,
@@ -125,11 +125,19 @@ fn tank_height(tank: &TankSpec) -> f64 {
         TankSpec::Rect { height, .. }
         | TankSpec::Box { height, .. }
         | TankSpec::Cylinder { height, .. } => *height,
+        TankSpec::Section { outline, .. } => {
+            let (lo, hi) = outline.bounds();
+            hi[1] - lo[1]
+        }
+        TankSpec::Sphere { radius, .. } => 2.0 * radius,
     }
 }
 
 /// Builds the 2D particles of a 2D tank.
 pub fn build_2d(tank: &TankSpec, dx: f64) -> Result<ParticleSetup<2>> {
+    if let Some(section) = tank.section_tank().map_err(anyhow::Error::msg)? {
+        return Ok(section.build(dx)?);
+    }
     match tank {
         TankSpec::Rect {
             width,
@@ -139,6 +147,7 @@ pub fn build_2d(tank: &TankSpec, dx: f64) -> Result<ParticleSetup<2>> {
             layout,
             tilt,
             tilt_shape,
+            ..
         } => {
             let layout = Layout::from_name(layout).with_context(|| {
                 format!("unknown layout \"{layout}\" (use \"offset\" or \"paper\")")
@@ -196,6 +205,17 @@ pub fn build_3d(tank: &TankSpec, dx: f64, sandbox: &ReadSandbox) -> Result<Parti
             .with_initial_tilt(*tilt)
             .with_initial_shape(initial_surface(tilt_shape))
             .build(dx)?),
-        TankSpec::Rect { .. } => bail!("internal: a 2D tank was handed to the 3D builder"),
+        TankSpec::Sphere {
+            radius,
+            depth,
+            tilt,
+            tilt_shape,
+        } => Ok(SphereTank::new(*radius, *depth)
+            .with_initial_tilt(*tilt)
+            .with_initial_shape(initial_surface(tilt_shape))
+            .build(dx)?),
+        TankSpec::Rect { .. } | TankSpec::Section { .. } => {
+            bail!("internal: a 2D tank was handed to the 3D builder")
+        }
     }
 }

@@ -348,6 +348,12 @@ fn cmd_run(args: RunArgs) -> Result<()> {
             "{}",
             params_table(&list_params_with(&args.case, &read_only)?)
         );
+        if let Ok(case) = load_case(&args.case, &read_only) {
+            println!("\nwall parts (their loads: series.csv, summary.ron `parts`):");
+            for (name, what) in case.tank.part_descriptions() {
+                println!("{name:<20} {what}");
+            }
+        }
         return Ok(());
     }
     let case = load_case(&args.case, &options)?;

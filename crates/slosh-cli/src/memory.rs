@@ -28,6 +28,22 @@ pub fn estimate_particles(tank: &TankSpec, dx: f64) -> (f64, f64) {
             let perimeter = 2.0 * h + w * if *roof { 2.0 } else { 1.0 };
             ((width / dx) * (depth / dx), WALL_LAYERS * perimeter / dx)
         }
+        TankSpec::Sphere { radius, depth, .. } => {
+            // bounded by the cylinder around the sphere
+            let pi = std::f64::consts::PI;
+            let r = radius + grow;
+            (
+                pi * radius * radius * depth / dx.powi(3),
+                WALL_LAYERS * 4.0 * pi * r * r / (dx * dx),
+            )
+        }
+        TankSpec::Section { outline, depth, .. } => {
+            // bounded by the outline's bounding box, roof included
+            let (lo, hi) = outline.bounds();
+            let (width, height) = (hi[0] - lo[0], hi[1] - lo[1]);
+            let perimeter = 2.0 * (width + height + 4.0 * grow);
+            ((width / dx) * (depth / dx), WALL_LAYERS * perimeter / dx)
+        }
         TankSpec::Box {
             length,
             breadth,

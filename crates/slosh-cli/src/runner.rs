@@ -119,6 +119,9 @@ pub struct Summary {
     pub tank_requested: TankSpec,
     /// How the lattice changed the tank or dx (empty when it fits exactly).
     pub lattice_notes: Vec<String>,
+    /// The tank's wall parts: name and the boundary area its particles stand for (m²; 2D m
+    /// per m of depth), e.g. ("roof", 24.19) for the cone roof of a 24 m section.
+    pub parts: Vec<(String, f64)>,
     /// Tait stiffness B used (Pa).
     pub eos_b: f64,
     /// The rule that chose c0 and B.
@@ -261,6 +264,8 @@ fn simulated_tank<const D: usize>(sim: &Simulation<D>, fit: &mut build::FittedTa
     if !paper_layout {
         let depth = match &mut tank {
             TankSpec::Rect { depth, .. }
+            | TankSpec::Section { depth, .. }
+            | TankSpec::Sphere { depth, .. }
             | TankSpec::Cylinder { depth, .. }
             | TankSpec::Box { depth, .. } => depth,
         };
@@ -276,16 +281,49 @@ fn simulated_tank<const D: usize>(sim: &Simulation<D>, fit: &mut build::FittedTa
     tank
 }
 
+/// The left and right wall gauges of a tank whose walls need not be vertical (a polygon or
+/// circle section, a sphere): on the x axis through the centre, one lattice spacing inside the
+/// liquid's extent at mid-depth (the gauge's reference height), where the vertical line holds
+/// liquid from mid-depth up.
+fn liquid_edge_gauges<const D: usize>(sim: &Simulation<D>) -> (Vec<f64>, Vec<f64>) {
+    let (lo, hi) = sim.interior_bounds();
+    let dx = sim.spacing();
+    let floor = lo[D - 1];
+    let mid_depth = floor + 0.5 * (sim.fill_level() - floor);
+    let on_axis = |x: &Vector<D>| (1..D - 1).all(|k| (x[k] - 0.5 * (lo[k] + hi[k])).abs() <= dx);
+    let (mut left, mut right) = (hi[0], lo[0]);
+    for x in &sim.fluid().position {
+        if (x[D - 1] - mid_depth).abs() <= dx && on_axis(x) {
+            left = left.min(x[0]);
+            right = right.max(x[0]);
+        }
+    }
+    let (mut left_gauge, mut right_gauge) = slosh_run::wall_gauges(sim);
+    if left <= right {
+        left_gauge[0] = left + dx;
+        right_gauge[0] = right - dx;
+    }
+    (left_gauge, right_gauge)
+}
+
 fn theory_numbers(tank: &TankSpec, gravity: f64) -> TheoryNumbers {
     use slosh_theory::natural;
     let omega_1 = match tank {
         TankSpec::Rect { width, depth, .. } => {
             natural::rectangular_omega(*width, *depth, gravity, 1)
         }
+        // an estimate: the rectangle of the section's width and the liquid depth
+        TankSpec::Section { depth, .. } => {
+            natural::rectangular_omega(tank.horizontal_size(), *depth, gravity, 1)
+        }
         TankSpec::Box { length, depth, .. } => {
             natural::rectangular_omega(*length, *depth, gravity, 1)
         }
         TankSpec::Cylinder { radius, depth, .. } => {
+            natural::cylinder_omega(*radius, *depth, gravity, 1, 1)
+        }
+        // an estimate: the upright cylinder of the sphere's radius and the liquid depth
+        TankSpec::Sphere { radius, depth, .. } => {
             natural::cylinder_omega(*radius, *depth, gravity, 1, 1)
         }
     };
@@ -497,6 +535,10 @@ fn run_built<const D: usize>(
         }
         None => None,
     };
+    let wall_gauges = match &case.tank {
+        TankSpec::Section { .. } | TankSpec::Sphere { .. } => Some(liquid_edge_gauges(&sim)),
+        _ => None,
+    };
     let settle = case.run.settle;
     let duration = case.run.duration;
     let theory = theory_numbers(&tank, sim.params().gravity);
@@ -519,6 +561,7 @@ fn run_built<const D: usize>(
             theory_numbers(&case.tank, sim.params().gravity).omega_1,
         ),
         roof_tank: roof_tank(&tank, sim.params(), theory.omega_1),
+        wall_gauges,
     };
     let mut files = RunFiles {
         out: out.clone(),
@@ -613,6 +656,19 @@ fn run_built<const D: usize>(
         tank,
         tank_requested: case.tank.clone(),
         lattice_notes: fit.notes.clone(),
+        parts: sim
+            .part_names()
+            .iter()
+            .enumerate()
+            .map(|(k, name)| {
+                let walls = sim.walls();
+                let area = (walls.part.iter().zip(&walls.area))
+                    .filter(|(&p, _)| p as usize == k)
+                    .map(|(_, a)| a)
+                    .sum();
+                (name.clone(), area)
+            })
+            .collect(),
         still_level: sim.still_level(),
         eos_b: choice.eos_stiffness,
         sound_speed_rule: choice.rule.clone(),
@@ -813,6 +869,11 @@ fn roof_tank(tank: &TankSpec, params: &SphParams, omega_1: f64) -> RoofTank {
             depth,
             ..
         } => (*depth, *height, 0.5 * width),
+        TankSpec::Section { outline, depth, .. } => {
+            let (lo, hi) = outline.bounds();
+            (*depth, hi[1] - lo[1], 0.5 * (hi[0] - lo[0]))
+        }
+        TankSpec::Sphere { radius, depth, .. } => (*depth, 2.0 * radius, *radius),
         TankSpec::Cylinder {
             radius,
             height,

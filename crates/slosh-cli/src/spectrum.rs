@@ -103,6 +103,7 @@ pub fn write_case_input_spectrum(
     }
     let (size, is_cylinder) = match &case.tank {
         TankSpec::Rect { width, .. } => (*width, false),
+        TankSpec::Section { .. } | TankSpec::Sphere { .. } => (case.tank.horizontal_size(), false),
         TankSpec::Box { length, .. } => (*length, false),
         TankSpec::Cylinder { radius, .. } => (2.0 * radius, true),
     };

@@ -267,6 +267,10 @@ fn list_params_prints_the_declared_parameters() {
     ] {
         assert!(text.contains(name), "missing {name} in\n{text}");
     }
+    assert!(
+        text.contains("wall parts") && text.contains("the flat roof"),
+        "parts in\n{text}"
+    );
     let width = text.lines().find(|l| l.starts_with("width ")).unwrap();
     assert!(
         width.contains(" m ") && width.contains("inner tank width"),
@@ -314,4 +318,59 @@ fn run_help_lists_the_shipped_scripts() {
         );
         assert!(text.contains("cylinder_3d.rhai"), "{text}");
     }
+}
+
+/// Writes `script` as `case.rhai` in `dir`.
+fn write_case(dir: &Path, script: &str) -> PathBuf {
+    let path = dir.join("case.rhai");
+    std::fs::write(&path, script).unwrap();
+    path
+}
+
+#[test]
+fn self_intersecting_outline_is_refused_at_the_tank_call() {
+    let dir = temp("self_intersecting_outline");
+    let case = write_case(
+        &dir,
+        "// a bow tie\nlet d = 0.5;\ntank(#{ shape: \"polygon\", depth: d,\n  outline: [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]] });\n",
+    );
+    let (ok, err) = run(&["run", case.to_str().unwrap(), "--quiet"]);
+    assert!(!ok);
+    assert!(err.contains("case.rhai:3:1:"), "{err}");
+    assert!(err.contains("side 0") && err.contains("side 2"), "{err}");
+}
+
+#[test]
+fn cone_roof_section_runs_and_the_summary_names_its_parts() {
+    let dir = temp("cone_roof_section");
+    let case = write_case(
+        &dir,
+        "// cone roof\ntank(#{ shape: \"rect\", width: 0.4, height: 0.4, depth: 0.2, roof: \"cone\", roof_rise: 0.1 });\n\
+         numerics(#{ dx: 0.04 });\nrun(#{ settle: 0.0, duration: 0.02, output_interval: 0.005 });\n",
+    );
+    let out = dir.join("out");
+    let (ok, err) = run(&[
+        "run",
+        case.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(ok, "{err}");
+    let summary = std::fs::read_to_string(out.join("summary.ron")).unwrap();
+    // roof: two slopes of √(0.2² + 0.1²) m
+    let roof = 2.0 * 0.2f64.hypot(0.1);
+    let line = summary
+        .lines()
+        .find(|l| l.contains("(\"roof\","))
+        .unwrap_or_else(|| panic!("no roof part in {summary}"));
+    let value: f64 = line
+        .trim()
+        .trim_start_matches("(\"roof\",")
+        .trim_end_matches("),")
+        .trim()
+        .parse()
+        .unwrap();
+    assert!((value - roof).abs() < 1e-9 * roof, "{line}");
+    assert!(summary.contains("(\"bottom\",") && summary.contains("(\"wall\","));
 }

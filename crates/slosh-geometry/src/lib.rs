@@ -5,7 +5,11 @@
 //! * [`CylinderTank`]: an upright cylinder (axis x = y = 0, floor z = 0) with a [`Roof`]
 //!   (none, flat, cone, dome, or a closed mesh file of the whole interior), optional
 //!   [`InternalSolid`]s (columns, baffle rings).
+//! * [`SectionTank2`]: any other 2D section: a rectangle with a cone, dome or polyline roof
+//!   ([`SectionRoof`]), a simple polygon, or a circle (horizontal cylindrical tank), built by
+//!   the 2D form of the 3D rules below with the outline as a parry2d `Polyline`.
 //! * [`BoxTank`]: a 3D rectangular box, to compare 2D and 3D runs.
+//! * [`SphereTank`]: a spherical tank, parts by the way its surface faces.
 //! * [`SurfaceMesh`]: OBJ/STL reading, OBJ writing, closedness checks, procedural meshes
 //!   ([`cylinder_roof_mesh_obj`] writes the example files of `geometry/`).
 //!
@@ -40,8 +44,10 @@
 #![warn(missing_docs)]
 
 mod error;
+mod lattice;
 mod mesh;
 mod rect2;
+mod section2;
 mod tank3;
 
 /// Shape of the initial free surface of a free-decay test (`initial_tilt` ≠ 0). Both keep the
@@ -60,10 +66,24 @@ pub enum InitialSurface {
     FirstMode,
 }
 
+impl InitialSurface {
+    /// Parses a script's `tilt_shape`: `"plane"` or `"mode1"`.
+    pub fn from_name(name: &str) -> Option<InitialSurface> {
+        match name.trim().to_ascii_lowercase().as_str() {
+            "plane" => Some(InitialSurface::Plane),
+            "mode1" => Some(InitialSurface::FirstMode),
+            _ => None,
+        }
+    }
+}
+
 pub use error::{GeometryError, MAX_PARTICLES};
 pub use mesh::{box_mesh, circle_segments, revolve_profile, SurfaceMesh};
 pub use rect2::{Layout, RectInterior2, RectLattice2, RectTank2};
-pub use tank3::{BoxTank, CylinderTank, InternalSolid, Roof, SolidShape, TankRegion3};
+pub use section2::{
+    bounding_box_2d, SectionOutline, SectionRegion2, SectionRoof, SectionShape, SectionTank2,
+};
+pub use tank3::{BoxTank, CylinderTank, InternalSolid, Roof, SolidShape, SphereTank, TankRegion3};
 
 /// Writes the closed interior surface of a cylinder of `radius` and `shell_height` (m) with
 /// `roof` (not `Roof::Mesh`/`Roof::None`) to an OBJ file at `path`, using facets no wider than

@@ -14,11 +14,10 @@ use rayon::prelude::*;
 use slosh_core::{ParticleSetup, TankInterior, PART_BOTTOM, PART_ROOF, PART_WALL};
 
 use crate::error::{check_finite, check_layers, check_positive, GeometryError, MAX_PARTICLES};
+use crate::lattice::{
+    cell_of, lattice_rows_below, part_priority, scale_areas_to_part_totals, NO_PART,
+};
 use crate::mesh::{box_mesh, circle_segments, revolve_profile, SurfaceMesh};
-
-/// Part index given to triangles that produce no wall particles (the virtual lid of an open
-/// tank and the shell above its top).
-const NO_PART: u16 = u16::MAX;
 
 /// The roof of an upright cylindrical tank.
 #[derive(Debug, Clone, PartialEq)]
@@ -78,6 +77,37 @@ impl Roof {
             _ => 0.0,
         }
     }
+}
+
+/// The profile of a spherical-cap roof of `rise` (m) over a shell of radius `radius` whose top
+/// is at `shell_top` (m): (r, z) points from just inside the shell top (excluded) to the crown
+/// (r = 0, z = shell_top + rise), with chord error ≤ `sag` (m) and at least 4 pieces.
+pub(crate) fn dome_profile(radius: f64, shell_top: f64, rise: f64, sag: f64) -> Vec<[f64; 2]> {
+    let (r, h) = (radius, shell_top);
+    let a = (r * r + rise * rise) / (2.0 * rise);
+    let zc = h + rise - a;
+    let theta0 = (r / a).clamp(-1.0, 1.0).asin();
+    let step = 2.0 * (1.0 - (sag / a).min(1.0)).acos();
+    let pieces = ((theta0 / step).ceil() as usize).max(4);
+    (1..=pieces)
+        .map(|k| {
+            let th = theta0 * (1.0 - k as f64 / pieces as f64);
+            let rr = if k == pieces { 0.0 } else { a * th.sin() };
+            let zz = if k == pieces {
+                h + rise
+            } else {
+                zc + a * th.cos()
+            };
+            [rr, zz]
+        })
+        .collect()
+}
+
+/// Arc length of a spherical-cap (dome) profile of `rise` (m) over a half-width `radius` (m),
+/// from the shell top to the crown: a·asin(radius/a), a = (radius² + rise²)/(2 rise).
+pub(crate) fn dome_arc_length(radius: f64, rise: f64) -> f64 {
+    let a = (radius * radius + rise * rise) / (2.0 * rise);
+    a * (radius / a).clamp(-1.0, 1.0).asin()
 }
 
 /// Shape of an internal solid (a fixed obstacle inside the tank), in tank coordinates (m).
@@ -334,23 +364,7 @@ impl CylinderTank {
             }
             Roof::Flat => profile.push([0.0, h]),
             Roof::Cone { apex_height } => profile.push([0.0, h + apex_height]),
-            Roof::Dome { rise } => {
-                let a = (r * r + rise * rise) / (2.0 * rise);
-                let zc = h + rise - a;
-                let theta0 = (r / a).clamp(-1.0, 1.0).asin();
-                let step = 2.0 * (1.0 - (sag / a).min(1.0)).acos();
-                let pieces = ((theta0 / step).ceil() as usize).max(4);
-                for k in 1..=pieces {
-                    let th = theta0 * (1.0 - k as f64 / pieces as f64);
-                    let rr = if k == pieces { 0.0 } else { a * th.sin() };
-                    let zz = if k == pieces {
-                        h + rise
-                    } else {
-                        zc + a * th.cos()
-                    };
-                    profile.push([rr, zz]);
-                }
-            }
+            Roof::Dome { rise } => profile.extend(dome_profile(r, h, *rise, sag)),
             Roof::Mesh(path) => {
                 let mut mesh = SurfaceMesh::read(path)?;
                 let name = path.display().to_string();
@@ -601,6 +615,119 @@ impl BoxTank {
     }
 }
 
+/// A spherical tank of inner radius `radius` (m), centre on the axis at z = radius (the lowest
+/// point at z = 0). Parts by the way the surface faces out of the liquid: `roof` within 45° of
+/// straight up (the polar cap above latitude 45°), `bottom` within 45° of straight down, `wall`
+/// the zone between; their areas are the spherical zones 2πR²(1 − 1/√2), 2√2 πR² and
+/// 2πR²(1 − 1/√2) (Archimedes: a zone's area is 2πR times its height).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SphereTank {
+    /// Inner radius R (m).
+    pub radius: f64,
+    /// Still liquid depth above the lowest point (m).
+    pub fill_depth: f64,
+    /// Number of wall particle layers (default 3).
+    pub layers: u8,
+    /// Initial free-surface tilt along x: elevation above the still level at x = −R (m).
+    pub initial_tilt: f64,
+    /// Shape of the tilted surface (plane by default; the first mode is the rectangle's
+    /// cos(πξ) across the diameter).
+    pub initial_shape: crate::InitialSurface,
+}
+
+impl SphereTank {
+    /// A sphere of `radius` filled to `fill_depth` (m), 3 wall layers, no tilt.
+    pub fn new(radius: f64, fill_depth: f64) -> Self {
+        SphereTank {
+            radius,
+            fill_depth,
+            layers: 3,
+            initial_tilt: 0.0,
+            initial_shape: crate::InitialSurface::Plane,
+        }
+    }
+
+    /// Sets the initial free-surface tilt (m, elevation at x = −R).
+    pub fn with_initial_tilt(mut self, tilt: f64) -> Self {
+        self.initial_tilt = tilt;
+        self
+    }
+
+    /// Sets the shape of the tilted initial surface.
+    pub fn with_initial_shape(mut self, shape: crate::InitialSurface) -> Self {
+        self.initial_shape = shape;
+        self
+    }
+
+    /// Builds the initial particles for spacing `dx` (m), following the 3D rules in the crate
+    /// documentation, with the parts by facing described on the type.
+    pub fn build(&self, dx: f64) -> Result<ParticleSetup<3>, GeometryError> {
+        let r = self.radius;
+        check_positive("tank radius", r)?;
+        check_positive("fill depth", self.fill_depth)?;
+        check_positive("particle spacing dx", dx)?;
+        check_finite("initial tilt", self.initial_tilt)?;
+        check_layers(self.layers)?;
+        if dx > r {
+            return Err(GeometryError::SpacingTooLarge {
+                dx,
+                what: "radius",
+                size: r,
+            });
+        }
+        // meridian from the lowest to the highest point, with vertices on latitudes ±45° so
+        // that no facet straddles two parts
+        let sag = 1e-3 * dx;
+        let n = circle_segments(r, dx, sag).div_ceil(8) * 8;
+        let profile: Vec<[f64; 2]> = (0..=n / 2)
+            .map(|k| {
+                let phi = -0.5 * PI + PI * k as f64 / (n / 2) as f64;
+                let rr = if k == 0 || k == n / 2 {
+                    0.0
+                } else {
+                    r * phi.cos()
+                };
+                [rr, r + r * phi.sin()]
+            })
+            .collect();
+        let surface = revolve_profile(&profile, false, n, dx);
+        let triangle_parts = surface
+            .triangles
+            .iter()
+            .map(|t| {
+                let v = t.map(|i| PVec3::from(surface.vertices[i as usize]));
+                let nz = (v[1] - v[0]).cross(v[2] - v[0]).normalize_or_zero().z;
+                if nz > std::f64::consts::FRAC_1_SQRT_2 {
+                    2
+                } else if nz < -std::f64::consts::FRAC_1_SQRT_2 {
+                    0
+                } else {
+                    1
+                }
+            })
+            .collect();
+        let cap = 2.0 * PI * r * r * (1.0 - std::f64::consts::FRAC_1_SQRT_2);
+        let spec = MeshTankSpec {
+            surface,
+            shell_height: 2.0 * r,
+            open: false,
+            fill_depth: self.fill_depth,
+            initial_tilt: self.initial_tilt,
+            tilt_shape: match self.initial_shape {
+                crate::InitialSurface::Plane => TiltShape::Plane { span: [-r, r] },
+                crate::InitialSurface::FirstMode => TiltShape::Cosine { span: [-r, r] },
+            },
+            layers: self.layers,
+            solids: Vec::new(),
+            analytic_part_area: [Some(cap), Some(4.0 * PI * r * r - 2.0 * cap), Some(cap)],
+            interior_min: [-r, -r, 0.0],
+            interior_max: [r, r, 2.0 * r],
+            region: RegionShape::Mesh,
+        };
+        build_mesh_tank_with_parts(&spec, Some(triangle_parts), dx)
+    }
+}
+
 /// The exact shape used by [`TankInterior::contains`] (fast analytic tests where possible).
 #[derive(Debug, Clone)]
 enum RegionShape {
@@ -618,7 +745,7 @@ enum RegionShape {
 /// The tilted initial surface: elevation above the fill level per unit tilt, as a function of
 /// the horizontal position.
 #[derive(Debug, Clone, Copy)]
-enum TiltShape {
+pub(crate) enum TiltShape {
     /// Plane: +1 at x = span[0], −1 at x = span[1].
     Plane { span: [f64; 2] },
     /// First cylinder mode: −(x/r) J₁(ξ₁ r/R)/J₁(ξ₁) (+1 at x = −R).
@@ -629,7 +756,7 @@ enum TiltShape {
 
 impl TiltShape {
     /// Elevation per unit tilt at (x, y) (m/m).
-    fn at(&self, x: f64, y: f64) -> f64 {
+    pub(crate) fn at(&self, x: f64, y: f64) -> f64 {
         match *self {
             TiltShape::Plane { span } => 1.0 - 2.0 * (x - span[0]) / (span[1] - span[0]),
             TiltShape::Cosine { span } => {
@@ -648,7 +775,7 @@ impl TiltShape {
     }
 
     /// Range of x the shape is defined over (m).
-    fn span(&self) -> [f64; 2] {
+    pub(crate) fn span(&self) -> [f64; 2] {
         match *self {
             TiltShape::Plane { span } | TiltShape::Cosine { span } => span,
             TiltShape::CylinderMode { radius } => [-radius, radius],
@@ -808,13 +935,6 @@ impl Boundary {
         }
         // Several parts meet here: the part of the nearest face plane; ties go to the part of
         // higher priority (roof over wall over bottom), as in the 2D ring corners.
-        let priority = |p: u16| match p {
-            NO_PART => 0,
-            0 => 1,
-            1 => 2,
-            2 => 3,
-            _ => 4,
-        };
         let mut best: Option<(f64, u16, u32)> = None;
         for &k in &cands {
             let tri = self.mesh.triangle(k);
@@ -824,7 +944,8 @@ impl Boundary {
             let better = match best {
                 None => true,
                 Some((bd, bp, _)) => {
-                    plane < bd - tol || (plane <= bd + tol && priority(part) > priority(bp))
+                    plane < bd - tol
+                        || (plane <= bd + tol && part_priority(part) > part_priority(bp))
                 }
             };
             if better {
@@ -975,11 +1096,6 @@ struct TriangleSamples {
     assigned: Vec<(u32, f64)>,
 }
 
-/// Lattice index of the cell-centred point nearest to coordinate `c` (m).
-fn cell_of(c: f64, dx: f64) -> i64 {
-    (c / dx - 0.5).round() as i64
-}
-
 /// Turns a closed tank surface into particles on the cubic lattice ((i+½)dx, (j+½)dx, (k+½)dx).
 ///
 /// Rules:
@@ -999,17 +1115,22 @@ fn cell_of(c: f64, dx: f64) -> i64 {
 ///   scaled so they sum to the part's exact area (analytic for the built-in shapes, the
 ///   wetted mesh area otherwise). Other particles get 0.
 fn build_mesh_tank(spec: &MeshTankSpec, dx: f64) -> Result<ParticleSetup<3>, GeometryError> {
+    build_mesh_tank_with_parts(spec, None, dx)
+}
+
+/// [`build_mesh_tank`] with the part of each surface triangle given (`None`: floor, shell and
+/// roof by height, [`tag_tank_triangles`]).
+fn build_mesh_tank_with_parts(
+    spec: &MeshTankSpec,
+    triangle_parts: Option<Vec<u16>>,
+    dx: f64,
+) -> Result<ParticleSetup<3>, GeometryError> {
     let layers = spec.layers;
     let reach = layers as f64 * dx + 1e-6 * dx;
     let (lo, hi) = spec.surface.bounds();
     let top = hi[2];
     // fill level and checks
-    let ratio = spec.fill_depth / dx;
-    let rows = if (ratio - ratio.round()).abs() < 1e-6 {
-        ratio.round()
-    } else {
-        (ratio - 0.5).ceil().max(0.0)
-    };
+    let rows = lattice_rows_below(spec.fill_depth, dx);
     if rows < 1.0 {
         return Err(GeometryError::SpacingAboveFill {
             dx,
@@ -1074,7 +1195,8 @@ fn build_mesh_tank(spec: &MeshTankSpec, dx: f64) -> Result<ParticleSetup<3>, Geo
     // boundaries
     let tank = Boundary::new(
         &spec.surface,
-        tag_tank_triangles(&spec.surface, spec.shell_height, spec.open),
+        triangle_parts
+            .unwrap_or_else(|| tag_tank_triangles(&spec.surface, spec.shell_height, spec.open)),
         false,
     )?;
     let mut part_names: Vec<String> = vec![PART_BOTTOM.into(), PART_WALL.into(), PART_ROOF.into()];
@@ -1417,18 +1539,7 @@ fn build_mesh_tank(spec: &MeshTankSpec, dx: f64) -> Result<ParticleSetup<3>, Geo
             }
         }
     }
-    let scale: Vec<f64> = (0..n_parts)
-        .map(|p| {
-            if assigned_area[p] > 0.0 {
-                target[p] / assigned_area[p]
-            } else {
-                0.0
-            }
-        })
-        .collect();
-    for (w, a) in wall_area.iter_mut().enumerate() {
-        *a *= scale[wall_part[w] as usize];
-    }
+    scale_areas_to_part_totals(&mut wall_area, &wall_part, &assigned_area, &target);
 
     let mesh = Arc::new(tank.mesh.clone());
     Ok(ParticleSetup {

@@ -7,7 +7,8 @@ use std::time::Instant;
 use nalgebra::Vector3;
 use slosh_core::ParticleSetup;
 use slosh_geometry::{
-    cylinder_roof_mesh_obj, BoxTank, CylinderTank, GeometryError, InternalSolid, Roof, SurfaceMesh,
+    cylinder_roof_mesh_obj, BoxTank, CylinderTank, GeometryError, InternalSolid, Roof, SphereTank,
+    SurfaceMesh,
 };
 
 fn part_area(s: &ParticleSetup<3>, part: u16) -> f64 {
@@ -580,4 +581,28 @@ fn sub_spacing_tilt_moves_liquid_to_the_left() {
     // i.e. ≈ 26 particles of dx³ at these numbers; accept 10–45 (staircase rounding).
     let excess = (left(&tilted) - right(&tilted)) / 2.0;
     assert!((10.0..=45.0).contains(&excess), "excess {excess}");
+}
+
+#[test]
+fn sphere_parts_are_the_zones_and_half_full_holds_half_the_volume() {
+    let (r, dx) = (1.0, 0.1);
+    let s = SphereTank::new(r, r).build(dx).unwrap();
+    // polar caps above ±45°: 2πR²(1 − 1/√2); the zone between: 2√2 πR² (exact by rescaling)
+    let cap = 2.0 * PI * r * r * (1.0 - std::f64::consts::FRAC_1_SQRT_2);
+    let exact = [cap, 4.0 * PI * r * r - 2.0 * cap, cap];
+    for (p, a) in exact.iter().enumerate() {
+        assert!(rel(part_area(&s, p as u16), *a) < 1e-9, "part {p}");
+    }
+    // half full: the particles stand for (2/3)πR³ within 2 % at R/dx = 10
+    let volume = s.fluid_positions.len() as f64 * dx.powi(3);
+    assert!(rel(volume, 2.0 / 3.0 * PI * r.powi(3)) < 0.02, "{volume}");
+    // every wall particle is outside the sphere, within 3 dx of it, its normal radial
+    let centre = Vector3::new(0.0, 0.0, r);
+    for (x, n) in s.wall_positions.iter().zip(&s.wall_normal) {
+        let d = (x - centre).norm() - r;
+        assert!(d > 0.0 && d <= 3.0 * dx + 1e-6, "{d}");
+        assert!((x - centre).normalize().dot(n) > 0.95);
+    }
+    assert!(SphereTank::new(r, 2.5).build(dx).is_err());
+    assert!(SphereTank::new(-1.0, 0.5).build(dx).is_err());
 }

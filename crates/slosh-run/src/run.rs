@@ -37,6 +37,9 @@ pub struct RunPlan {
     pub load_filter: LoadFilter,
     /// The tank numbers of Kurihara's and Malhotra's roof pressures.
     pub roof_tank: RoofTank,
+    /// Horizontal positions of the `eta_left` and `eta_right` gauges; `None`: one lattice
+    /// spacing inside the walls on the x axis ([`wall_gauges`]).
+    pub wall_gauges: Option<(Vec<f64>, Vec<f64>)>,
 }
 
 /// Receives what a case run produces, as it produces it: once per output row, frame or step,
@@ -216,7 +219,7 @@ fn columns(dim: usize, gauges: &[Gauge]) -> (Vec<(String, String)>, usize) {
 
 /// Horizontal positions of the left and right wall gauges: on the x axis, one lattice
 /// spacing inside the interior from the wall face.
-fn wall_gauges<const D: usize>(sim: &Simulation<D>) -> (Vec<f64>, Vec<f64>) {
+pub fn wall_gauges<const D: usize>(sim: &Simulation<D>) -> (Vec<f64>, Vec<f64>) {
     let (lo, hi) = sim.interior_bounds();
     let dx = sim.spacing();
     let mut left = vec![0.0; D - 1];
@@ -507,7 +510,7 @@ where
         pending: VecDeque::new(),
         roof: RoofMonitor::new(sim, expected_rows),
         levers: overturning_levers(sim),
-        wall_gauges: wall_gauges(sim),
+        wall_gauges: plan.wall_gauges.clone().unwrap_or_else(|| wall_gauges(sim)),
         still_level: sim.still_level(),
         roof_part: part("roof"),
         wall_part: part("wall"),

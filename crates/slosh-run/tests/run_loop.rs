@@ -34,6 +34,7 @@ fn plan(duration: f64) -> RunPlan {
             half_width: 0.2,
             omega: 8.0,
         },
+        wall_gauges: None,
     }
 }
 

@@ -149,6 +149,10 @@ pub(crate) fn build_engine(
             if slot.is_some() {
                 return Err(runtime_error(format!("{key}(…) is called twice")));
             }
+            if key == "tank" {
+                // a bad shape is reported at this call (file:line:column)
+                crate::spec::TankSpec::from_map_checked(&map).map_err(runtime_error)?;
+            }
             *slot = Some(map);
             Ok(())
         });

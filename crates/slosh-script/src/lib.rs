@@ -35,4 +35,4 @@ pub use memory::SCRIPT_MEMORY_BUDGET_BYTES;
 pub use motion_api::MotionInfo;
 pub use params::{parse_set_value, ParamDecl, ParamValue};
 pub use sandbox::{ReadSandbox, PROJECT_MARKER};
-pub use spec::{GaugeSpec, Resolution, RunSpec, TankSpec};
+pub use spec::{GaugeSpec, Resolution, RunSpec, SectionOutlineSpec, SectionRoofSpec, TankSpec};

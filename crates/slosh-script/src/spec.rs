@@ -6,6 +6,7 @@ use slosh_core::{
     ArtificialSoundSpeed, BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, KernelKind,
     NeighbourBackend, SoundSpeedRule, SphParams, WallPressureMethod,
 };
+use slosh_geometry::{bounding_box_2d, InitialSurface, SectionRoof, SectionShape, SectionTank2};
 use std::collections::BTreeSet;
 
 /// Reads the keys of a Rhai map, remembering which were used so that unknown keys (typos)
@@ -25,7 +26,7 @@ impl<'a> MapReader<'a> {
         }
     }
 
-    fn get(&mut self, key: &str) -> Option<&'a Dynamic> {
+    pub(crate) fn get(&mut self, key: &str) -> Option<&'a Dynamic> {
         self.used.insert(key.to_string());
         self.map.get(key)
     }
@@ -77,6 +78,14 @@ impl<'a> MapReader<'a> {
         }
     }
 
+    /// A list of [x, y] points (m), or `None` when the key is absent.
+    pub(crate) fn opt_points(&mut self, key: &str) -> Result<Option<Vec<[f64; 2]>>, String> {
+        let what = self.what;
+        self.get(key)
+            .map(|d| points_from_dynamic(d).map_err(|m| format!("{what}: '{key}' {m}")))
+            .transpose()
+    }
+
     /// Error when the map holds keys that were never asked for.
     pub(crate) fn finish(self) -> Result<(), String> {
         let unknown: Vec<&str> = self
@@ -99,6 +108,24 @@ impl<'a> MapReader<'a> {
     }
 }
 
+/// Reads a Rhai array of [x, y] number pairs.
+fn points_from_dynamic(d: &Dynamic) -> Result<Vec<[f64; 2]>, String> {
+    let list = d
+        .as_array_ref()
+        .map_err(|_| format!("must be a list of [x, y] points (got {d})"))?;
+    list.iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let pair = p.as_array_ref().ok().and_then(|a| {
+                (a.len() == 2)
+                    .then(|| Some([dynamic_to_f64(&a[0])?, dynamic_to_f64(&a[1])?]))
+                    .flatten()
+            });
+            pair.ok_or_else(|| format!("point {k} must be [x, y] with two numbers (got {p})"))
+        })
+        .collect()
+}
+
 pub(crate) fn dynamic_to_f64(d: &Dynamic) -> Option<f64> {
     d.as_float()
         .ok()
@@ -116,11 +143,25 @@ pub enum TankSpec {
         height: f64,
         /// Still liquid depth H (m).
         depth: f64,
-        /// Flat roof at `height` (closed tank) or open.
+        /// A roof (closed tank) or none (open).
         roof: bool,
+        /// The roof's shape when it is not flat (absent: flat at `height`).
+        #[serde(skip_serializing_if = "Option::is_none")]
+        roof_shape: Option<SectionRoofSpec>,
         /// `"offset"` or `"paper"`.
         layout: String,
         /// Initial free-surface elevation at the left wall (m).
+        tilt: f64,
+        /// Shape of the tilted surface: `"plane"` or `"mode1"` (first sloshing mode).
+        tilt_shape: String,
+    },
+    /// 2D section of any closed outline (per metre of depth): a polygon or a circle.
+    Section {
+        /// The outline.
+        outline: SectionOutlineSpec,
+        /// Still liquid depth above the lowest point of the outline (m).
+        depth: f64,
+        /// Initial free-surface elevation at the leftmost point (m).
         tilt: f64,
         /// Shape of the tilted surface: `"plane"` or `"mode1"` (first sloshing mode).
         tilt_shape: String,
@@ -159,6 +200,85 @@ pub enum TankSpec {
         /// Shape of the tilted surface: `"plane"` or `"mode1"` (first sloshing mode).
         tilt_shape: String,
     },
+    /// 3D spherical tank, centre on the vertical axis at z = radius.
+    Sphere {
+        /// Inner radius R (m).
+        radius: f64,
+        /// Still liquid depth above the lowest point (m).
+        depth: f64,
+        /// Initial free-surface elevation at x = −R (m).
+        tilt: f64,
+        /// Shape of the tilted surface: `"plane"` or `"mode1"` (first sloshing mode).
+        tilt_shape: String,
+    },
+}
+
+/// A 2D section's roof other than flat or none.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub enum SectionRoofSpec {
+    /// Straight from the wall tops to an apex `rise` (m) above them at mid-width.
+    Cone {
+        /// Apex height above the wall tops (m).
+        rise: f64,
+    },
+    /// Circular arc through the wall tops, `rise` (m) above them at mid-width.
+    Dome {
+        /// Crown height above the wall tops (m).
+        rise: f64,
+    },
+    /// Polyline of [x, y] points (m) from one wall top to the other.
+    Outline(Vec<[f64; 2]>),
+}
+
+/// The outline of a 2D [`TankSpec::Section`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub enum SectionOutlineSpec {
+    /// Closed polygon of [x, y] vertices (m), any orientation.
+    Polygon(Vec<[f64; 2]>),
+    /// Circle of `radius` (m), centre (radius, radius): a horizontal cylindrical tank.
+    Circle {
+        /// Inner radius (m).
+        radius: f64,
+    },
+}
+
+impl SectionOutlineSpec {
+    /// Lowest and highest corner of the outline's bounding box (m).
+    pub fn bounds(&self) -> ([f64; 2], [f64; 2]) {
+        match self {
+            SectionOutlineSpec::Circle { radius } => ([0.0, 0.0], [2.0 * radius, 2.0 * radius]),
+            SectionOutlineSpec::Polygon(points) => bounding_box_2d(points),
+        }
+    }
+}
+
+/// Reads a 2D section's `roof`: true/false, "flat", "none"/"open", "cone" or "dome" (rising
+/// `roof_rise` m), or a list of [x, y] points from wall top to wall top. Returns whether there
+/// is a roof and its shape when not flat.
+fn section_roof(r: &mut MapReader) -> Result<(bool, Option<SectionRoofSpec>), String> {
+    let rise = r.f64_or("roof_rise", 0.1)?;
+    let Some(roof) = r.get("roof") else {
+        return Ok((true, None));
+    };
+    if let Ok(closed) = roof.as_bool() {
+        return Ok((closed, None));
+    }
+    if roof.is_array() {
+        let points = r.opt_points("roof")?.unwrap_or_default();
+        return Ok((true, Some(SectionRoofSpec::Outline(points))));
+    }
+    let name = roof.clone().into_string().unwrap_or_default();
+    match name.trim().to_ascii_lowercase().as_str() {
+        "flat" => Ok((true, None)),
+        "none" | "open" => Ok((false, None)),
+        "cone" => Ok((true, Some(SectionRoofSpec::Cone { rise }))),
+        "dome" => Ok((true, Some(SectionRoofSpec::Dome { rise }))),
+        _ => Err(format!(
+            "tank: unknown roof {} for a 2D section (use true, false, \"flat\", \"none\", \"cone\", \"dome\" \
+             or a list of [x, y] points from one wall top to the other)",
+            if roof.is_string() { format!("\"{name}\"") } else { roof.to_string() }
+        )),
+    }
 }
 
 impl Default for TankSpec {
@@ -169,6 +289,7 @@ impl Default for TankSpec {
             height: 1.0,
             depth: 0.5,
             roof: true,
+            roof_shape: None,
             layout: "offset".into(),
             tilt: 0.0,
             tilt_shape: "plane".into(),
@@ -192,8 +313,10 @@ impl TankSpec {
     pub fn depth(&self) -> f64 {
         match self {
             TankSpec::Rect { depth, .. }
+            | TankSpec::Section { depth, .. }
             | TankSpec::Cylinder { depth, .. }
-            | TankSpec::Box { depth, .. } => *depth,
+            | TankSpec::Box { depth, .. }
+            | TankSpec::Sphere { depth, .. } => *depth,
         }
     }
 
@@ -202,31 +325,196 @@ impl TankSpec {
     pub fn horizontal_size(&self) -> f64 {
         match self {
             TankSpec::Rect { width, .. } => *width,
+            TankSpec::Section { outline, .. } => {
+                let (lo, hi) = outline.bounds();
+                hi[0] - lo[0]
+            }
             TankSpec::Box {
                 length, breadth, ..
             } => length.max(*breadth),
-            TankSpec::Cylinder { radius, .. } => 2.0 * radius,
+            TankSpec::Cylinder { radius, .. } | TankSpec::Sphere { radius, .. } => 2.0 * radius,
         }
     }
 
     /// Space dimension of the tank (2 or 3).
     pub fn dim(&self) -> usize {
         match self {
-            TankSpec::Rect { .. } => 2,
+            TankSpec::Rect { .. } | TankSpec::Section { .. } => 2,
             _ => 3,
         }
+    }
+
+    /// The wall parts whose loads are reported (`bottom`, `wall`, `roof`), each with what it
+    /// is on this tank.
+    pub fn part_descriptions(&self) -> Vec<(&'static str, String)> {
+        let none = || "none (open tank)".to_string();
+        let by_facing = |down: &str, side: &str, up: &str| {
+            vec![
+                ("bottom", down.to_string()),
+                ("wall", side.to_string()),
+                ("roof", up.to_string()),
+            ]
+        };
+        match self {
+            TankSpec::Rect {
+                roof, roof_shape, ..
+            } => {
+                let roof = match (roof, roof_shape) {
+                    (false, _) => none(),
+                    (true, None) => "the flat roof".into(),
+                    (true, Some(SectionRoofSpec::Cone { .. })) => {
+                        "the cone roof's two slopes".into()
+                    }
+                    (true, Some(SectionRoofSpec::Dome { .. })) => "the dome roof's arc".into(),
+                    (true, Some(SectionRoofSpec::Outline(_))) => "the roof polyline".into(),
+                };
+                vec![
+                    ("bottom", "the floor".into()),
+                    ("wall", "the two side walls".into()),
+                    ("roof", roof),
+                ]
+            }
+            TankSpec::Section {
+                outline: SectionOutlineSpec::Circle { .. },
+                ..
+            } => by_facing(
+                "the lower quarter of the circle",
+                "the two side quarters",
+                "the upper quarter",
+            ),
+            TankSpec::Section { .. } => by_facing(
+                "sides facing within 45° of straight down",
+                "the other sides",
+                "sides facing within 45° of straight up",
+            ),
+            TankSpec::Cylinder { roof, .. } => vec![
+                ("bottom", "the floor".into()),
+                ("wall", "the cylindrical shell".into()),
+                (
+                    "roof",
+                    if roof == "none" || roof == "open" {
+                        none()
+                    } else {
+                        format!("the {roof} roof")
+                    },
+                ),
+            ],
+            TankSpec::Sphere { .. } => by_facing(
+                "the cap within 45° of the lowest point",
+                "the zone between latitudes −45° and 45°",
+                "the cap within 45° of the highest point",
+            ),
+            TankSpec::Box { roof, .. } => vec![
+                ("bottom", "the floor".into()),
+                ("wall", "the four side walls".into()),
+                (
+                    "roof",
+                    if *roof {
+                        "the flat roof".into()
+                    } else {
+                        none()
+                    },
+                ),
+            ],
+        }
+    }
+
+    /// The 2D tank built by [`SectionTank2`]: a rectangle with a cone, dome or polyline roof,
+    /// a polygon or a circle; `None` for the flat-roofed or open rectangle (built by
+    /// `RectTank2`) and the 3D tanks. Errors for a roof shape with the paper layout.
+    pub fn section_tank(&self) -> Result<Option<SectionTank2>, String> {
+        let (shape, depth, tilt, tilt_shape) = match self {
+            TankSpec::Rect {
+                width,
+                height,
+                depth,
+                roof: true,
+                roof_shape: Some(roof),
+                layout,
+                tilt,
+                tilt_shape,
+            } => {
+                if layout != "offset" {
+                    return Err(format!(
+                        "tank: layout \"{layout}\" is for flat or open roofs; a cone, dome or \
+                         polyline roof uses the offset layout"
+                    ));
+                }
+                let roof = match roof {
+                    SectionRoofSpec::Cone { rise } => SectionRoof::Cone { apex_height: *rise },
+                    SectionRoofSpec::Dome { rise } => SectionRoof::Dome { rise: *rise },
+                    SectionRoofSpec::Outline(points) => SectionRoof::Outline(points.clone()),
+                };
+                let shape = SectionShape::RoofedRect {
+                    width: *width,
+                    wall_height: *height,
+                    roof,
+                };
+                (shape, depth, tilt, tilt_shape)
+            }
+            TankSpec::Section {
+                outline,
+                depth,
+                tilt,
+                tilt_shape,
+            } => {
+                let shape = match outline {
+                    SectionOutlineSpec::Polygon(points) => SectionShape::Polygon(points.clone()),
+                    SectionOutlineSpec::Circle { radius } => {
+                        SectionShape::Circle { radius: *radius }
+                    }
+                };
+                (shape, depth, tilt, tilt_shape)
+            }
+            _ => return Ok(None),
+        };
+        Ok(Some(
+            SectionTank2::new(shape, *depth)
+                .with_initial_tilt(*tilt)
+                .with_initial_shape(InitialSurface::from_name(tilt_shape).unwrap_or_default()),
+        ))
+    }
+
+    /// Parses and checks a `tank(#{…})` map: unknown keys, and the outline or roof of a 2D
+    /// section (simple, closed, from wall top to wall top).
+    pub(crate) fn from_map_checked(map: &Map) -> Result<TankSpec, String> {
+        let spec = TankSpec::from_map(map)?;
+        if let Some(section) = spec.section_tank()? {
+            section.check_shape().map_err(|e| e.to_string())?;
+        }
+        Ok(spec)
     }
 
     pub(crate) fn from_map(map: &Map) -> Result<TankSpec, String> {
         let mut r = MapReader::new("tank", map);
         let shape = r.str_or("shape", "rect")?;
         let spec = match shape.as_str() {
-            "rect" | "rectangle" => TankSpec::Rect {
-                width: r.f64_or("width", 1.0)?,
-                height: r.f64_or("height", 1.0)?,
+            "rect" | "rectangle" => {
+                let (roof, roof_shape) = section_roof(&mut r)?;
+                TankSpec::Rect {
+                    width: r.f64_or("width", 1.0)?,
+                    height: r.f64_or("height", 1.0)?,
+                    depth: r.f64_or("depth", 0.5)?,
+                    roof,
+                    roof_shape,
+                    layout: r.str_or("layout", "offset")?,
+                    tilt: r.f64_or("tilt", 0.0)?,
+                    tilt_shape: tilt_shape(&mut r)?,
+                }
+            }
+            "polygon" => TankSpec::Section {
+                outline: SectionOutlineSpec::Polygon(r.opt_points("outline")?.ok_or(
+                    "tank: a polygon needs 'outline', a list of [x, y] points (m) around the interior",
+                )?),
                 depth: r.f64_or("depth", 0.5)?,
-                roof: r.bool_or("roof", true)?,
-                layout: r.str_or("layout", "offset")?,
+                tilt: r.f64_or("tilt", 0.0)?,
+                tilt_shape: tilt_shape(&mut r)?,
+            },
+            "circle" => TankSpec::Section {
+                outline: SectionOutlineSpec::Circle {
+                    radius: r.f64_or("radius", 0.5)?,
+                },
+                depth: r.f64_or("depth", 0.5)?,
                 tilt: r.f64_or("tilt", 0.0)?,
                 tilt_shape: tilt_shape(&mut r)?,
             },
@@ -248,9 +536,15 @@ impl TankSpec {
                 tilt: r.f64_or("tilt", 0.0)?,
                 tilt_shape: tilt_shape(&mut r)?,
             },
+            "sphere" => TankSpec::Sphere {
+                radius: r.f64_or("radius", 0.5)?,
+                depth: r.f64_or("depth", 0.5)?,
+                tilt: r.f64_or("tilt", 0.0)?,
+                tilt_shape: tilt_shape(&mut r)?,
+            },
             other => {
                 return Err(format!(
-                    "tank: unknown shape \"{other}\" (use \"rect\", \"cylinder\" or \"box\")"
+                    "tank: unknown shape \"{other}\" (use \"rect\", \"polygon\", \"circle\", \"cylinder\", \"box\" or \"sphere\")"
                 ))
             }
         };
@@ -719,6 +1013,7 @@ mod tests {
         assert_eq!(Resolution::PerRadius(24.0).spacing_for(&cylinder), Ok(0.5));
         assert_eq!(Resolution::PerDepth(26.0).spacing_for(&cylinder), Ok(0.5));
         let rect = TankSpec::Rect {
+            roof_shape: None,
             width: 1.0,
             height: 1.0,
             depth: 0.5,
@@ -728,6 +1023,80 @@ mod tests {
             tilt_shape: "plane".into(),
         };
         assert!(Resolution::PerRadius(10.0).spacing_for(&rect).is_err());
+    }
+
+    #[test]
+    fn section_roofs_and_outlines_are_read() {
+        let tank = |pairs: Vec<(&str, Dynamic)>| {
+            let map: Map = pairs.into_iter().map(|(k, v)| (k.into(), v)).collect();
+            TankSpec::from_map_checked(&map)
+        };
+        let point = |x: f64, y: f64| Dynamic::from(vec![Dynamic::from(x), Dynamic::from(y)]);
+        // true/false and "flat"/"none" keep the rectangle of RectTank2
+        for (roof, closed) in [
+            (Dynamic::from(true), true),
+            (Dynamic::from(false), false),
+            (Dynamic::from("flat"), true),
+            (Dynamic::from("none"), false),
+        ] {
+            let t = tank(vec![("roof", roof)]).unwrap();
+            assert!(matches!(t, TankSpec::Rect { roof, roof_shape: None, .. } if roof == closed));
+            assert!(t.section_tank().unwrap().is_none());
+        }
+        let cone = tank(vec![
+            ("roof", Dynamic::from("cone")),
+            ("roof_rise", Dynamic::from(0.2)),
+        ])
+        .unwrap();
+        let section = cone.section_tank().unwrap().unwrap();
+        assert_eq!(
+            section.shape,
+            SectionShape::RoofedRect {
+                width: 1.0,
+                wall_height: 1.0,
+                roof: SectionRoof::Cone { apex_height: 0.2 }
+            }
+        );
+        let polyline = vec![point(0.0, 1.0), point(0.5, 1.2), point(1.0, 1.0)];
+        let t = tank(vec![("roof", Dynamic::from(polyline))]).unwrap();
+        assert!(matches!(
+            t,
+            TankSpec::Rect { roof_shape: Some(SectionRoofSpec::Outline(ref p)), .. } if p.len() == 3
+        ));
+        let circle = tank(vec![
+            ("shape", Dynamic::from("circle")),
+            ("radius", Dynamic::from(2.0)),
+        ])
+        .unwrap();
+        assert_eq!(circle.dim(), 2);
+        assert_eq!(circle.horizontal_size(), 4.0);
+        let sphere = tank(vec![
+            ("shape", Dynamic::from("sphere")),
+            ("radius", Dynamic::from(2.0)),
+        ])
+        .unwrap();
+        assert_eq!((sphere.dim(), sphere.horizontal_size()), (3, 4.0));
+        assert!(sphere.section_tank().unwrap().is_none());
+        // a self-intersecting outline is refused naming its sides
+        let bow_tie = vec![
+            point(0.0, 0.0),
+            point(1.0, 1.0),
+            point(1.0, 0.0),
+            point(0.0, 1.0),
+        ];
+        let err = tank(vec![
+            ("shape", Dynamic::from("polygon")),
+            ("outline", Dynamic::from(bow_tie)),
+        ])
+        .unwrap_err();
+        assert!(err.contains("side 0") && err.contains("side 2"), "{err}");
+        let err = tank(vec![("shape", Dynamic::from("polygon"))]).unwrap_err();
+        assert!(err.contains("outline"), "{err}");
+        let err = tank(vec![("roof", Dynamic::from("pyramid"))]).unwrap_err();
+        assert!(err.contains("\"pyramid\""), "{err}");
+        let bad_point = vec![point(0.0, 1.0), Dynamic::from(3.0), point(1.0, 1.0)];
+        let err = tank(vec![("roof", Dynamic::from(bad_point))]).unwrap_err();
+        assert!(err.contains("point 1"), "{err}");
     }
 
     #[test]

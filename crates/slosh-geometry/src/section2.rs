@@ -1,0 +1,873 @@
+//! 2D tank sections of any closed outline (per metre of depth out of plane): a rectangle with a
+//! cone, dome or polyline roof, any simple polygon, or a circle (the section of a horizontal
+//! cylindrical tank). The outline is a closed parry2d `Polyline`, turned into particles by the
+//! 2D form of the 3D rules of the crate documentation.
+
+use std::f64::consts::{FRAC_1_SQRT_2, PI};
+
+use nalgebra::Vector2;
+use parry2d_f64::math::{Pose, Vector as PVec2};
+use parry2d_f64::query::details::distance_segment_segment;
+use parry2d_f64::shape::{Polyline, Segment, SegmentPointLocation};
+use slosh_core::{ParticleSetup, TankInterior, PART_BOTTOM, PART_ROOF, PART_WALL};
+
+use crate::error::{check_finite, check_layers, check_positive, GeometryError, MAX_PARTICLES};
+use crate::lattice::{cell_of, lattice_rows_below, part_priority, scale_areas_to_part_totals};
+use crate::mesh::circle_segments;
+use crate::tank3::{dome_arc_length, dome_profile, TiltShape};
+
+/// The roof of a rectangular 2D section other than flat or none (those are [`crate::RectTank2`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum SectionRoof {
+    /// Two straight pieces from the wall tops to an apex `apex_height` (m) above them at
+    /// mid-width (the section through the axis of a cone-roof tank).
+    Cone {
+        /// Height of the apex above the wall tops (m).
+        apex_height: f64,
+    },
+    /// A circular arc through both wall tops rising `rise` (m) above them at mid-width
+    /// (rise ≤ half the width; the section through the axis of a dome-roof tank).
+    Dome {
+        /// Height of the crown above the wall tops (m).
+        rise: f64,
+    },
+    /// Any polyline of (x, y) points (m) from one wall top to the other (either order).
+    Outline(Vec<[f64; 2]>),
+}
+
+/// The outline of a [`SectionTank2`].
+#[derive(Debug, Clone, PartialEq)]
+pub enum SectionShape {
+    /// Floor y = 0 from x = 0 to `width`, vertical walls up to `wall_height`, and `roof`.
+    /// Parts: floor `bottom`, side walls `wall`, roof `roof`.
+    RoofedRect {
+        /// Inner width between the side walls (m).
+        width: f64,
+        /// Height of the side walls, floor to wall top (m).
+        wall_height: f64,
+        /// The roof from wall top to wall top.
+        roof: SectionRoof,
+    },
+    /// A closed polygon of (x, y) vertices (m), any orientation, the last joined to the first;
+    /// it must be simple (no two sides crossing or touching). Parts by the direction a side
+    /// faces out of the liquid: `roof` within 45° of straight up, `bottom` within 45° of
+    /// straight down, `wall` otherwise.
+    Polygon(Vec<[f64; 2]>),
+    /// A circle of `radius` (m) with its centre at (radius, radius), so that the floor touches
+    /// y = 0; parts by facing as for polygons: the upper quarter `roof`, the lower quarter
+    /// `bottom`, the two side quarters `wall` (lengths πR/2, πR/2, πR).
+    Circle {
+        /// Inner radius (m).
+        radius: f64,
+    },
+}
+
+/// A 2D tank section of any closed outline, per metre of depth out of plane.
+///
+/// The still liquid level is `fill_depth` above the lowest point of the outline; the particles
+/// hold the lattice rows (cell centres (j+½)dx) below it, and `fill_level` is the top of those
+/// rows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SectionTank2 {
+    /// The outline.
+    pub shape: SectionShape,
+    /// Still liquid depth above the lowest point of the outline (m).
+    pub fill_depth: f64,
+    /// Number of wall particle layers (default 3).
+    pub layers: u8,
+    /// Initial free-surface tilt: elevation above the still level at the leftmost x of the
+    /// outline (m), −tilt at the rightmost; 0 = flat.
+    pub initial_tilt: f64,
+    /// Shape of the tilted surface (plane by default; the first mode is the rectangle's
+    /// cos(πξ) over the outline's width).
+    pub initial_shape: crate::InitialSurface,
+}
+
+/// A closed outline ready for particles: counter-clockwise vertices (m), the part of each side
+/// (side k joins vertex k to vertex k+1, the last side back to vertex 0), and the exact length
+/// of each built-in part (bottom, wall, roof) where the sides only approximate a curve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SectionOutline {
+    /// Counter-clockwise vertices (m).
+    pub vertices: Vec<[f64; 2]>,
+    /// Part index of each side (0 bottom, 1 wall, 2 roof).
+    pub side_part: Vec<u16>,
+    /// Exact length of each built-in part (m) where known in closed form; otherwise the sides'
+    /// lengths are exact.
+    pub exact_length: [Option<f64>; 3],
+}
+
+impl SectionOutline {
+    /// Total length of the sides of each built-in part (bottom, wall, roof) (m).
+    pub fn side_lengths(&self) -> [f64; 3] {
+        let mut total = [0.0; 3];
+        let n = self.vertices.len();
+        for k in 0..n {
+            let (a, b) = (self.vertices[k], self.vertices[(k + 1) % n]);
+            total[self.side_part[k] as usize] += (b[0] - a[0]).hypot(b[1] - a[1]);
+        }
+        total
+    }
+
+    /// Length each part's particle areas add up to (m): the exact length where known, else
+    /// the sides' length.
+    pub fn part_lengths(&self) -> [f64; 3] {
+        let sides = self.side_lengths();
+        std::array::from_fn(|p| self.exact_length[p].unwrap_or(sides[p]))
+    }
+
+    /// Lowest and highest corner of the bounding box (m).
+    pub fn bounds(&self) -> ([f64; 2], [f64; 2]) {
+        bounding_box_2d(&self.vertices)
+    }
+
+    /// Unit normal of side `k`, pointing out of the liquid.
+    fn outward_normal(&self, k: usize) -> PVec2 {
+        let n = self.vertices.len();
+        let (a, b) = (self.vertices[k], self.vertices[(k + 1) % n]);
+        PVec2::new(b[1] - a[1], a[0] - b[0]).normalize_or_zero()
+    }
+
+    /// The outline as a closed parry2d polyline.
+    fn polyline(&self) -> Polyline {
+        let n = self.vertices.len() as u32;
+        let vertices = self
+            .vertices
+            .iter()
+            .map(|v| PVec2::new(v[0], v[1]))
+            .collect();
+        let indices = (0..n).map(|k| [k, (k + 1) % n]).collect();
+        Polyline::new(vertices, Some(indices))
+    }
+}
+
+/// Lowest and highest corner of the bounding box of `points` (m); infinite when empty.
+pub fn bounding_box_2d(points: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for v in points {
+        for a in 0..2 {
+            lo[a] = lo[a].min(v[a]);
+            hi[a] = hi[a].max(v[a]);
+        }
+    }
+    (lo, hi)
+}
+
+/// Part of a side from the direction `normal` it faces out of the liquid: roof within 45° of
+/// straight up, bottom within 45° of straight down, wall otherwise.
+fn part_by_facing(normal: PVec2) -> u16 {
+    if normal.y > FRAC_1_SQRT_2 {
+        2
+    } else if normal.y < -FRAC_1_SQRT_2 {
+        0
+    } else {
+        1
+    }
+}
+
+/// Checks that the closed polygon `vertices` (m) is simple — at least 3 vertices, finite, no
+/// side of zero length, no two sides crossing, touching or folding back on each other — and
+/// encloses a non-zero area; returns it counter-clockwise. Errors name the offending sides
+/// (side k joins vertex k to vertex k+1, counted from 0 in the order given).
+pub(crate) fn simple_ccw_polygon(
+    what: &str,
+    vertices: &[[f64; 2]],
+) -> Result<Vec<[f64; 2]>, GeometryError> {
+    let n = vertices.len();
+    let bad = |m: String| GeometryError::InvalidShape(format!("{what}: {m}"));
+    if n < 3 {
+        return Err(bad(format!(
+            "a closed outline needs at least 3 points (got {n})"
+        )));
+    }
+    if let Some((k, v)) = vertices
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !(v[0].is_finite() && v[1].is_finite()))
+    {
+        return Err(bad(format!("point {k} {v:?} is not finite")));
+    }
+    let scale = vertices
+        .iter()
+        .map(|v| v[0].abs().max(v[1].abs()))
+        .fold(0.0, f64::max)
+        .max(1e-300);
+    let tol = 1e-9 * scale;
+    let p = |k: usize| PVec2::new(vertices[k % n][0], vertices[k % n][1]);
+    let side = |k: usize| Segment::new(p(k), p(k + 1));
+    let show = |k: usize| format!("side {k} ({:?} → {:?})", vertices[k], vertices[(k + 1) % n]);
+    for k in 0..n {
+        if (p(k + 1) - p(k)).length() <= tol {
+            return Err(bad(format!("{} has zero length (repeated point)", show(k))));
+        }
+    }
+    for i in 0..n {
+        // neighbouring sides share a vertex; they must not fold back onto each other
+        let j = (i + 1) % n;
+        let (d0, d1) = (p(i + 1) - p(i), p(j + 1) - p(j));
+        let cross = d0.x * d1.y - d0.y * d1.x;
+        if cross.abs() <= 1e-12 * d0.length() * d1.length() && d0.dot(d1) < 0.0 {
+            return Err(bad(format!(
+                "{} and {} fold back onto each other",
+                show(i),
+                show(j)
+            )));
+        }
+        for j in i + 2..n {
+            if i == 0 && j == n - 1 {
+                continue;
+            }
+            if distance_segment_segment(&Pose::IDENTITY, &side(i), &side(j)) <= tol {
+                return Err(bad(format!(
+                    "{} crosses or touches {}: the outline must be simple (not self-intersecting)",
+                    show(i),
+                    show(j)
+                )));
+            }
+        }
+    }
+    let twice_area: f64 = (0..n)
+        .map(|k| {
+            let (a, b) = (p(k), p(k + 1));
+            a.x * b.y - b.x * a.y
+        })
+        .sum();
+    if twice_area.abs() <= tol * scale {
+        return Err(bad("the outline encloses no area".into()));
+    }
+    let mut ccw = vertices.to_vec();
+    if twice_area < 0.0 {
+        ccw.reverse();
+    }
+    Ok(ccw)
+}
+
+impl SectionTank2 {
+    /// A tank of the given outline and fill depth (m), 3 wall layers, no tilt.
+    pub fn new(shape: SectionShape, fill_depth: f64) -> Self {
+        SectionTank2 {
+            shape,
+            fill_depth,
+            layers: 3,
+            initial_tilt: 0.0,
+            initial_shape: crate::InitialSurface::Plane,
+        }
+    }
+
+    /// Sets the number of wall layers.
+    pub fn with_layers(mut self, layers: u8) -> Self {
+        self.layers = layers;
+        self
+    }
+
+    /// Sets the initial free-surface tilt (m, elevation at the leftmost x).
+    pub fn with_initial_tilt(mut self, tilt: f64) -> Self {
+        self.initial_tilt = tilt;
+        self
+    }
+
+    /// Sets the shape of the tilted initial surface.
+    pub fn with_initial_shape(mut self, shape: crate::InitialSurface) -> Self {
+        self.initial_shape = shape;
+        self
+    }
+
+    /// Checks the shape alone (numbers, a simple outline, a roof from wall top to wall top),
+    /// before a spacing is known: the validity of a shape does not depend on dx.
+    pub fn check_shape(&self) -> Result<(), GeometryError> {
+        let size = match &self.shape {
+            SectionShape::RoofedRect { width, .. } => *width,
+            SectionShape::Circle { radius } => *radius,
+            SectionShape::Polygon(_) => 1.0,
+        };
+        let dx = if size.is_finite() && size > 0.0 {
+            size / 8.0
+        } else {
+            1.0
+        };
+        self.outline(dx).map(|_| ())
+    }
+
+    /// The closed outline for spacing `dx` (m): curves (dome roof, circle) are polygons with
+    /// sides no longer than dx and a chord error below dx/1000. Checks the shape.
+    pub fn outline(&self, dx: f64) -> Result<SectionOutline, GeometryError> {
+        check_positive("particle spacing dx", dx)?;
+        let sag = 1e-3 * dx;
+        match &self.shape {
+            SectionShape::RoofedRect {
+                width,
+                wall_height,
+                roof,
+            } => {
+                let (w, h) = (*width, *wall_height);
+                check_positive("tank width", w)?;
+                check_positive("tank wall height", h)?;
+                let (roof_points, roof_length): (Vec<[f64; 2]>, Option<f64>) = match roof {
+                    SectionRoof::Cone { apex_height } => {
+                        check_positive("cone roof rise", *apex_height)?;
+                        (
+                            vec![[0.5 * w, h + apex_height]],
+                            Some(2.0 * (0.5 * w).hypot(*apex_height)),
+                        )
+                    }
+                    SectionRoof::Dome { rise } => {
+                        check_positive("dome roof rise", *rise)?;
+                        if *rise > 0.5 * w * (1.0 + 1e-12) {
+                            return Err(GeometryError::InvalidShape(format!(
+                                "dome roof rise {rise} m is larger than half the tank width {} m \
+                                 (a circular arc over the walls rises at most half the width)",
+                                0.5 * w
+                            )));
+                        }
+                        let half = dome_profile(0.5 * w, h, *rise, sag);
+                        let right = half.iter().map(|&[r, y]| [0.5 * w + r, y]);
+                        let left = half.iter().rev().skip(1).map(|&[r, y]| [0.5 * w - r, y]);
+                        (
+                            right.chain(left).collect(),
+                            Some(2.0 * dome_arc_length(0.5 * w, *rise)),
+                        )
+                    }
+                    SectionRoof::Outline(points) => (roof_between_wall_tops(points, w, h)?, None),
+                };
+                let mut vertices = vec![[0.0, 0.0], [w, 0.0], [w, h]];
+                vertices.extend(roof_points);
+                vertices.push([0.0, h]);
+                let given = simple_ccw_polygon("tank roof", &vertices)?;
+                if given != vertices {
+                    return Err(GeometryError::InvalidShape(
+                        "tank roof: the roof must run above the floor between the wall tops".into(),
+                    ));
+                }
+                let n = vertices.len();
+                let side_part = (0..n)
+                    .map(|k| match k {
+                        0 => 0,
+                        1 => 1,
+                        k if k == n - 1 => 1,
+                        _ => 2,
+                    })
+                    .collect();
+                Ok(SectionOutline {
+                    vertices,
+                    side_part,
+                    exact_length: [Some(w), Some(2.0 * h), roof_length],
+                })
+            }
+            SectionShape::Polygon(points) => {
+                let vertices = simple_ccw_polygon("tank outline", points)?;
+                let mut outline = SectionOutline {
+                    side_part: vec![1; vertices.len()],
+                    vertices,
+                    exact_length: [None; 3],
+                };
+                outline.side_part = (0..outline.vertices.len())
+                    .map(|k| part_by_facing(outline.outward_normal(k)))
+                    .collect();
+                Ok(outline)
+            }
+            SectionShape::Circle { radius } => {
+                let r = *radius;
+                check_positive("tank radius", r)?;
+                // a multiple of 8 sides puts vertices on the quarter boundaries (45°, 135°, …)
+                let n = circle_segments(r, dx, sag).div_ceil(8) * 8;
+                let vertices = (0..n)
+                    .map(|k| {
+                        let t = 2.0 * PI * k as f64 / n as f64;
+                        [r + r * t.cos(), r + r * t.sin()]
+                    })
+                    .collect();
+                let mut outline = SectionOutline {
+                    vertices,
+                    side_part: vec![1; n],
+                    exact_length: [Some(0.5 * PI * r), Some(PI * r), Some(0.5 * PI * r)],
+                };
+                outline.side_part = (0..n)
+                    .map(|k| part_by_facing(outline.outward_normal(k)))
+                    .collect();
+                Ok(outline)
+            }
+        }
+    }
+
+    /// Builds the initial particles for spacing `dx` (m) on the lattice ((i+½)dx, (j+½)dx):
+    ///
+    /// * fluid: lattice points inside the outline below the (tilted) still level;
+    /// * walls: lattice points outside within `layers`·dx (+10⁻⁶ dx) of the outline, layer =
+    ///   ⌈distance/dx⌉; part and normal (out of the liquid) of the nearest side; at a vertex
+    ///   where two parts meet, the part of the nearer side line, ties to roof over wall over
+    ///   bottom; at a vertex of one part, the normal points from the vertex to the particle;
+    /// * area (m per m of depth): each part's sides are sampled at ≤ dx/2, each sample's length
+    ///   goes to the nearest innermost-layer particle of that part, and the areas of each part
+    ///   are scaled to add up to its exact length ([`SectionOutline::part_lengths`]).
+    pub fn build(&self, dx: f64) -> Result<ParticleSetup<2>, GeometryError> {
+        check_positive("fill depth", self.fill_depth)?;
+        check_finite("initial tilt", self.initial_tilt)?;
+        check_layers(self.layers)?;
+        let outline = self.outline(dx)?;
+        let (lo, hi) = outline.bounds();
+        let height = hi[1] - lo[1];
+        if self.fill_depth > height * (1.0 + 1e-12) {
+            return Err(GeometryError::FillAboveTank {
+                fill: self.fill_depth,
+                height,
+            });
+        }
+        let min_size = (hi[0] - lo[0]).min(height);
+        if dx > min_size {
+            return Err(GeometryError::SpacingTooLarge {
+                dx,
+                what: "smaller side of the bounding box",
+                size: min_size,
+            });
+        }
+        // rows counted from the lattice level at or below the lowest point (outlines may
+        // reach below y = 0)
+        let base = (lo[1] / dx).floor().min(0.0) * dx;
+        let fill_level = base + lattice_rows_below(lo[1] + self.fill_depth - base, dx) * dx;
+        let tilt = self.initial_tilt;
+        if fill_level - tilt.abs() < lo[1] {
+            return Err(GeometryError::TiltTooLarge {
+                tilt,
+                reason: format!(
+                    "the tilted surface would dip below the lowest point of the tank (still level {fill_level} m)"
+                ),
+            });
+        }
+        if fill_level + tilt.abs() > hi[1] {
+            return Err(GeometryError::TiltTooLarge {
+                tilt,
+                reason: format!(
+                    "the tilted surface would rise above the tank top {} m (still level {fill_level} m)",
+                    hi[1]
+                ),
+            });
+        }
+        let span = [lo[0], hi[0]];
+        let tilt_shape = match self.initial_shape {
+            crate::InitialSurface::Plane => TiltShape::Plane { span },
+            crate::InitialSurface::FirstMode => TiltShape::Cosine { span },
+        };
+
+        let layers = self.layers as f64;
+        let reach = layers * dx + 1e-6 * dx;
+        let pad = reach + dx;
+        let imin = [cell_of(lo[0] - pad, dx), cell_of(lo[1] - pad, dx)];
+        let imax = [cell_of(hi[0] + pad, dx), cell_of(hi[1] + pad, dx)];
+        let dims = [
+            (imax[0] - imin[0] + 1) as usize,
+            (imax[1] - imin[1] + 1) as usize,
+        ];
+        let estimate = dims[0] as u64 * dims[1] as u64;
+        if estimate > 2 * MAX_PARTICLES {
+            return Err(GeometryError::TooManyParticles {
+                dx,
+                estimate,
+                limit: MAX_PARTICLES,
+            });
+        }
+        let polyline = outline.polyline();
+        let n_sides = outline.vertices.len();
+        let normals: Vec<PVec2> = (0..n_sides).map(|k| outline.outward_normal(k)).collect();
+        let point = |i: i64, j: i64| PVec2::new((i as f64 + 0.5) * dx, (j as f64 + 0.5) * dx);
+        let to_na = |v: PVec2| Vector2::new(v.x, v.y);
+
+        let mut setup = ParticleSetup {
+            spacing: dx,
+            fluid_positions: Vec::new(),
+            wall_positions: Vec::new(),
+            wall_part: Vec::new(),
+            wall_normal: Vec::new(),
+            wall_area: Vec::new(),
+            wall_layer: Vec::new(),
+            part_names: vec![PART_BOTTOM.into(), PART_WALL.into(), PART_ROOF.into()],
+            interior_min: Vector2::new(lo[0], lo[1]),
+            interior_max: Vector2::new(hi[0], hi[1]),
+            fill_level,
+            interior: Box::new(SectionRegion2 {
+                polyline: polyline.clone(),
+            }),
+        };
+        // innermost-layer wall particle at each lattice cell, for the area assignment
+        let mut inner_grid = vec![u32::MAX; dims[0] * dims[1]];
+        for j in imin[1]..=imax[1] {
+            for i in imin[0]..=imax[0] {
+                let x = point(i, j);
+                let (proj, (side, location)) =
+                    polyline.project_local_point_assuming_solid_interior_ccw(x);
+                if proj.is_inside {
+                    if x.y < fill_level + tilt * tilt_shape.at(x.x, 0.0) {
+                        setup.fluid_positions.push(to_na(x));
+                    }
+                    continue;
+                }
+                let dist = (x - proj.point).length();
+                if dist > reach {
+                    continue;
+                }
+                let side = side as usize;
+                let (part, normal) = match location {
+                    SegmentPointLocation::OnEdge(_) => (outline.side_part[side], normals[side]),
+                    SegmentPointLocation::OnVertex(end) => {
+                        let vertex = (side + end as usize) % n_sides;
+                        let sides = [(vertex + n_sides - 1) % n_sides, vertex];
+                        let parts = sides.map(|s| outline.side_part[s]);
+                        if parts[0] == parts[1] {
+                            let n = if dist > 1e-6 * dx {
+                                (x - proj.point) / dist
+                            } else {
+                                normals[side]
+                            };
+                            (parts[0], n)
+                        } else {
+                            // the part of the nearer side line; ties to the higher priority
+                            let v = outline.vertices[vertex];
+                            let line =
+                                sides.map(|s| ((x - PVec2::new(v[0], v[1])).dot(normals[s])).abs());
+                            let tol = 1e-7 * dx;
+                            let first = line[0] < line[1] - tol
+                                || (line[0] <= line[1] + tol
+                                    && part_priority(parts[0]) > part_priority(parts[1]));
+                            let s = if first { sides[0] } else { sides[1] };
+                            (outline.side_part[s], normals[s])
+                        }
+                    }
+                };
+                let layer = ((dist / dx - 1e-9).ceil() as i64).clamp(1, self.layers as i64) as u8;
+                if layer == 1 {
+                    let g = (j - imin[1]) as usize * dims[0] + (i - imin[0]) as usize;
+                    inner_grid[g] = setup.wall_positions.len() as u32;
+                }
+                setup.wall_positions.push(to_na(x));
+                setup.wall_part.push(part);
+                setup.wall_normal.push(to_na(normal));
+                setup.wall_layer.push(layer);
+            }
+        }
+        if setup.fluid_positions.is_empty() {
+            return Err(GeometryError::SpacingAboveFill {
+                dx,
+                fill: self.fill_depth,
+            });
+        }
+
+        // areas: sample each side at ≤ dx/2, give each sample's length to the nearest
+        // innermost particle of the side's part
+        let wall_part = &setup.wall_part;
+        let nearest_inner = |s: PVec2, part: u16| -> Option<u32> {
+            let c = [cell_of(s.x, dx), cell_of(s.y, dx)];
+            for radius in [2i64, 4] {
+                let mut best: Option<(f64, u32)> = None;
+                for dj in -radius..=radius {
+                    for di in -radius..=radius {
+                        let (i, j) = (c[0] + di, c[1] + dj);
+                        if i < imin[0] || i > imax[0] || j < imin[1] || j > imax[1] {
+                            continue;
+                        }
+                        let w =
+                            inner_grid[(j - imin[1]) as usize * dims[0] + (i - imin[0]) as usize];
+                        if w == u32::MAX || wall_part[w as usize] != part {
+                            continue;
+                        }
+                        let d2 = (point(i, j) - s).length_squared();
+                        if best.is_none_or(|(bd, bw)| d2 < bd || (d2 == bd && w < bw)) {
+                            best = Some((d2, w));
+                        }
+                    }
+                }
+                if let Some((_, w)) = best {
+                    return Some(w);
+                }
+            }
+            None
+        };
+        let mut wall_area = vec![0.0; setup.wall_positions.len()];
+        let mut assigned = vec![0.0; 3];
+        for k in 0..n_sides {
+            let part = outline.side_part[k];
+            let (a, b) = (outline.vertices[k], outline.vertices[(k + 1) % n_sides]);
+            let (a, b) = (PVec2::new(a[0], a[1]), PVec2::new(b[0], b[1]));
+            let length = (b - a).length();
+            let pieces = (length / (0.5 * dx)).ceil().max(1.0) as usize;
+            let piece = length / pieces as f64;
+            for m in 0..pieces {
+                let s = a + (b - a) * ((m as f64 + 0.5) / pieces as f64);
+                if let Some(w) = nearest_inner(s, part) {
+                    wall_area[w as usize] += piece;
+                    assigned[part as usize] += piece;
+                }
+            }
+        }
+        scale_areas_to_part_totals(
+            &mut wall_area,
+            &setup.wall_part,
+            &assigned,
+            &outline.part_lengths(),
+        );
+        setup.wall_area = wall_area;
+        Ok(setup)
+    }
+}
+
+/// The interior points of a roof polyline `points` (m) given from one wall top to the other of
+/// a section `width` wide with walls `wall_height` high, ordered from the right wall top
+/// (width, wall_height) to the left one (0, wall_height).
+fn roof_between_wall_tops(
+    points: &[[f64; 2]],
+    width: f64,
+    wall_height: f64,
+) -> Result<Vec<[f64; 2]>, GeometryError> {
+    let (left, right) = ([0.0, wall_height], [width, wall_height]);
+    let tol = 1e-9 * width.max(wall_height);
+    let near = |p: &[f64; 2], q: [f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]) <= tol;
+    let (Some(first), Some(last)) = (points.first(), points.last()) else {
+        return Err(GeometryError::InvalidShape(
+            "tank roof: the roof polyline has no points".into(),
+        ));
+    };
+    let mut inner: Vec<[f64; 2]> = if near(first, right) && near(last, left) {
+        points[1..points.len() - 1].to_vec()
+    } else if near(first, left) && near(last, right) {
+        points[1..points.len() - 1].iter().rev().copied().collect()
+    } else {
+        return Err(GeometryError::InvalidShape(format!(
+            "tank roof: the roof polyline must run from one wall top to the other, \
+             [0, {wall_height}] and [{width}, {wall_height}] (it runs from {first:?} to {last:?})"
+        )));
+    };
+    inner.retain(|p| !(near(p, left) || near(p, right)));
+    Ok(inner)
+}
+
+/// The interior of a [`SectionTank2`]: the region inside its closed outline.
+#[derive(Clone)]
+pub struct SectionRegion2 {
+    polyline: Polyline,
+}
+
+impl SectionRegion2 {
+    fn inside_and_distance(&self, point: &Vector2<f64>) -> (bool, f64) {
+        let x = PVec2::new(point.x, point.y);
+        let (proj, _) = self
+            .polyline
+            .project_local_point_assuming_solid_interior_ccw(x);
+        (proj.is_inside, (x - proj.point).length())
+    }
+}
+
+impl TankInterior<2> for SectionRegion2 {
+    fn contains(&self, point: &Vector2<f64>) -> bool {
+        let aabb = self.polyline.local_aabb();
+        point.x >= aabb.mins.x
+            && point.y >= aabb.mins.y
+            && point.x <= aabb.maxs.x
+            && point.y <= aabb.maxs.y
+            && self.inside_and_distance(point).0
+    }
+
+    fn distance_outside(&self, point: &Vector2<f64>) -> f64 {
+        match self.inside_and_distance(point) {
+            (true, _) => 0.0,
+            (false, d) => d,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Sum of the areas of each part (m per m of depth).
+    fn part_sums(setup: &ParticleSetup<2>) -> [f64; 3] {
+        let mut s = [0.0; 3];
+        for (a, &p) in setup.wall_area.iter().zip(&setup.wall_part) {
+            s[p as usize] += a;
+        }
+        s
+    }
+
+    /// Relative difference |a − b| / b.
+    fn rel(a: f64, b: f64) -> f64 {
+        (a - b).abs() / b
+    }
+
+    #[test]
+    fn cone_roof_section_lengths_and_normals() {
+        // 2 m wide, walls 1 m, apex 0.5 m above the wall tops: roof 2·√(1² + 0.5²)
+        let tank = SectionTank2::new(
+            SectionShape::RoofedRect {
+                width: 2.0,
+                wall_height: 1.0,
+                roof: SectionRoof::Cone { apex_height: 0.5 },
+            },
+            0.6,
+        );
+        let setup = tank.build(0.05).unwrap();
+        let exact = [2.0, 2.0, 2.0 * 1.25f64.sqrt()];
+        let sums = part_sums(&setup);
+        for p in 0..3 {
+            assert!(
+                rel(sums[p], exact[p]) < 1e-12,
+                "part {p}: {} vs {}",
+                sums[p],
+                exact[p]
+            );
+        }
+        // every roof particle faces up and out along the cone: n = (±0.5, 1)/√1.25
+        let n_cone = (0.5f64 / 1.25f64.sqrt(), 1.0 / 1.25f64.sqrt());
+        for (k, &p) in setup.wall_part.iter().enumerate() {
+            let n = setup.wall_normal[k];
+            assert!((n.norm() - 1.0).abs() < 1e-12);
+            if p == 2 && setup.wall_layer[k] == 1 && (setup.wall_positions[k].x - 1.0).abs() > 0.1 {
+                assert!((n.x.abs() - n_cone.0).abs() < 1e-9 && (n.y - n_cone.1).abs() < 1e-9);
+            }
+        }
+        // fluid: 0.6 m deep = 12 rows of 40 columns
+        assert_eq!(setup.fluid_positions.len(), 12 * 40);
+        assert!((setup.fill_level - 0.6).abs() < 1e-12);
+        // no wall particle inside, each within 3 dx of the outline
+        for x in &setup.wall_positions {
+            let d = setup.interior.distance_outside(x);
+            assert!(d > 0.0 && d <= 3.0 * 0.05 + 1e-9);
+        }
+    }
+
+    #[test]
+    fn dome_roof_length_within_one_percent_of_the_arc() {
+        // half-width 1 m, rise 0.4 m: a = (1 + 0.16)/0.8 = 1.45 m, roof 2·a·asin(1/a)
+        let tank = SectionTank2::new(
+            SectionShape::RoofedRect {
+                width: 2.0,
+                wall_height: 1.0,
+                roof: SectionRoof::Dome { rise: 0.4 },
+            },
+            0.5,
+        );
+        let outline = tank.outline(0.05).unwrap();
+        let a = 1.45f64;
+        let arc = 2.0 * a * (1.0 / a).asin();
+        // the polygon's chords are within the sag bound of the arc
+        assert!(rel(outline.side_lengths()[2], arc) < 1e-4);
+        let setup = tank.build(0.05).unwrap();
+        let sums = part_sums(&setup);
+        assert!(rel(sums[2], arc) < 0.01, "{} vs {arc}", sums[2]);
+        assert!(rel(sums[0], 2.0) < 0.01 && rel(sums[1], 2.0) < 0.01);
+    }
+
+    #[test]
+    fn circle_parts_and_fluid_area() {
+        let r = 1.0;
+        let dx = 0.025;
+        let tank = SectionTank2::new(SectionShape::Circle { radius: r }, r);
+        let setup = tank.build(dx).unwrap();
+        let sums = part_sums(&setup);
+        let exact = [0.5 * PI * r, PI * r, 0.5 * PI * r];
+        for p in 0..3 {
+            assert!(
+                rel(sums[p], exact[p]) < 0.01,
+                "part {p}: {} vs {}",
+                sums[p],
+                exact[p]
+            );
+        }
+        // half full: the fluid particles stand for πR²/2 within 1 %
+        let area = setup.fluid_positions.len() as f64 * dx * dx;
+        assert!(rel(area, 0.5 * PI * r * r) < 0.01, "{area}");
+        // the wall normals point away from the centre
+        for (x, n) in setup.wall_positions.iter().zip(&setup.wall_normal) {
+            let out = (x - Vector2::new(r, r)).normalize();
+            assert!(out.dot(n) > 0.99);
+        }
+    }
+
+    #[test]
+    fn polygon_with_sloped_floor_any_orientation() {
+        // clockwise trapezoid: floor sloping 0.2 m over 2 m, vertical walls, flat roof at 1.2 m
+        let cw = vec![[0.0, 0.2], [0.0, 1.2], [2.0, 1.2], [2.0, 0.0]];
+        let tank = SectionTank2::new(SectionShape::Polygon(cw.clone()), 0.6);
+        let outline = tank.outline(0.05).unwrap();
+        let floor = 2.0f64.hypot(0.2);
+        let exact = [floor, 1.0 + 1.2, 2.0];
+        let lengths = outline.part_lengths();
+        for p in 0..3 {
+            assert!(rel(lengths[p], exact[p]) < 1e-12);
+        }
+        let setup = tank.build(0.05).unwrap();
+        let sums = part_sums(&setup);
+        for p in 0..3 {
+            assert!(rel(sums[p], exact[p]) < 1e-12, "part {p}");
+        }
+        let ccw: Vec<[f64; 2]> = cw.iter().rev().copied().collect();
+        let other = SectionTank2::new(SectionShape::Polygon(ccw), 0.6)
+            .build(0.05)
+            .unwrap();
+        assert_eq!(other.fluid_positions, setup.fluid_positions);
+        assert_eq!(other.wall_positions, setup.wall_positions);
+    }
+
+    #[test]
+    fn outline_below_the_origin_holds_its_depth() {
+        // a 1 m square from y = −0.7 m, 0.5 m of liquid: still level −0.2 m, 10 rows × 20
+        let square = vec![[-0.3, -0.7], [0.7, -0.7], [0.7, 0.3], [-0.3, 0.3]];
+        let setup = SectionTank2::new(SectionShape::Polygon(square), 0.5)
+            .build(0.05)
+            .unwrap();
+        assert!(
+            (setup.fill_level + 0.2).abs() < 1e-9,
+            "{}",
+            setup.fill_level
+        );
+        assert_eq!(setup.fluid_positions.len(), 10 * 20);
+    }
+
+    #[test]
+    fn self_intersecting_outline_names_the_sides() {
+        let bow_tie = vec![[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]];
+        let err = SectionTank2::new(SectionShape::Polygon(bow_tie), 0.5)
+            .check_shape()
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("side 0") && err.contains("side 2"), "{err}");
+        let folded = vec![[0.0, 0.0], [2.0, 0.0], [1.0, 0.0], [1.0, 1.0]];
+        let err = SectionTank2::new(SectionShape::Polygon(folded), 0.5)
+            .check_shape()
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("fold back"), "{err}");
+        let roof = SectionRoof::Outline(vec![[0.0, 1.0], [0.5, 1.5], [0.5, 2.0]]);
+        let err = SectionTank2::new(
+            SectionShape::RoofedRect {
+                width: 1.0,
+                wall_height: 1.0,
+                roof,
+            },
+            0.5,
+        )
+        .check_shape()
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("wall top"), "{err}");
+    }
+
+    #[test]
+    fn polyline_roof_equals_its_length_and_bad_numbers_are_errors() {
+        let roof = SectionRoof::Outline(vec![[1.0, 1.0], [0.7, 1.3], [0.3, 1.3], [0.0, 1.0]]);
+        let tank = SectionTank2::new(
+            SectionShape::RoofedRect {
+                width: 1.0,
+                wall_height: 1.0,
+                roof,
+            },
+            0.5,
+        );
+        let setup = tank.build(0.02).unwrap();
+        let exact = 2.0 * 0.3f64.hypot(0.3) + 0.4;
+        assert!(rel(part_sums(&setup)[2], exact) < 1e-12);
+        let circle =
+            |r: f64, fill: f64| SectionTank2::new(SectionShape::Circle { radius: r }, fill);
+        assert!(circle(-1.0, 0.5).build(0.05).is_err());
+        assert!(circle(1.0, 2.5).build(0.05).is_err());
+        assert!(circle(1.0, f64::NAN).build(0.05).is_err());
+        assert!(circle(1.0, 0.5).with_initial_tilt(0.6).build(0.05).is_err());
+    }
+}
