@@ -89,7 +89,7 @@ impl<const D: usize> StrainSweep<'_, D> {
             let grad_w = (xi - self.pos[j]) * f;
             let outer = velocity_gradient_pair(self.vel[j] - vi, grad_w);
             *grad_v += outer * (m * self.inv_rho[j]);
-            self.grad_acc.add(block, j, outer * volume_i);
+            self.grad_acc.add(&block.slot(j), outer * volume_i);
         }
     }
 }
@@ -172,9 +172,10 @@ pub(crate) fn strain_pass_sorted<const D: usize>(
                     fill.push(list, w as u32 | WALL_NEIGHBOUR);
                 }
             });
-            grad_acc.add(block, i, grad_v);
-            counts.set(block, i, fill.stored_count());
-            starts.set(block, i, (begin * capacity + cursor) as u32);
+            let slot = block.slot(i);
+            grad_acc.add(&slot, grad_v);
+            counts.set(&slot, fill.stored_count());
+            starts.set(&slot, (begin * capacity + cursor) as u32);
             cursor += fill.listed;
         }
     });

@@ -253,9 +253,10 @@ impl<const D: usize> DensitySweep<'_, D> {
             // tensor.
             let outer = velocity_gradient_pair(self.vel[j] - vi, xij * grad_factor);
             grad_v += outer * volume_j;
-            self.rho_acc.add(block, j, mw);
-            self.ksum_acc.add(block, j, volume_i * w);
-            self.grad_acc.add(block, j, outer * volume_i);
+            let slot = block.slot(j);
+            self.rho_acc.add(&slot, mw);
+            self.ksum_acc.add(&slot, volume_i * w);
+            self.grad_acc.add(&slot, outer * volume_i);
         }
         (sums.rho, sums.kernel_sum, sums.grad_v) = (rho_sum, kernel_sum, grad_v);
         sums.fill.append(list, batch_j);
@@ -374,11 +375,12 @@ pub(crate) fn density_pass_sorted<const D: usize>(
                         fill.push(list, w_idx as u32 | WALL_NEIGHBOUR);
                     }
                 });
-                counts.set(block, i, fill.stored_count());
-                starts.set(block, i, (begin * capacity + cursor) as u32);
-                rho_acc.add(block, i, rho_sum);
-                ksum_acc.add(block, i, kernel_sum);
-                grad_acc.add(block, i, grad_v);
+                let slot = block.slot(i);
+                counts.set(&slot, fill.stored_count());
+                starts.set(&slot, (begin * capacity + cursor) as u32);
+                rho_acc.add(&slot, rho_sum);
+                ksum_acc.add(&slot, kernel_sum);
+                grad_acc.add(&slot, grad_v);
                 cursor += fill.listed;
             }
         });

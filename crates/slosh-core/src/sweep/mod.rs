@@ -19,6 +19,31 @@ pub(crate) struct Block {
     pub(crate) end: usize,
     /// One past the last slot the block may write: the end of the next block.
     writable_end: usize,
+    /// Slots of the whole sweep.
+    n_slots: usize,
+}
+
+/// A slot the running [`Block`] may write, checked once ([`Block::slot`]) for every array
+/// of the sweep it is used with.
+pub(crate) struct Slot<'b> {
+    index: usize,
+    n_slots: usize,
+    _block: std::marker::PhantomData<&'b Block>,
+}
+
+impl Block {
+    /// Slot `i` of this block or the next; panics for any other.
+    #[inline(always)]
+    pub(crate) fn slot(&self, i: usize) -> Slot<'_> {
+        if i < self.begin || i >= self.writable_end {
+            slot_outside_block(i, self);
+        }
+        Slot {
+            index: i,
+            n_slots: self.n_slots,
+            _block: std::marker::PhantomData,
+        }
+    }
 }
 
 impl Block {
@@ -29,6 +54,7 @@ impl Block {
             begin: i,
             end: i + 1,
             writable_end: i + 1,
+            n_slots: i + 1,
         }
     }
 }
@@ -48,6 +74,24 @@ pub(crate) struct SweepSlots<'a, T> {
 unsafe impl<T: Send> Send for SweepSlots<'_, T> {}
 unsafe impl<T: Send> Sync for SweepSlots<'_, T> {}
 
+/// The panic of a write outside the running block (a broken sweep schedule): out of the hot
+/// path, so that the check costs one predictable branch.
+#[cold]
+#[inline(never)]
+fn slot_outside_block(i: usize, block: &Block) -> ! {
+    panic!(
+        "pair sweep: slot {i} outside block {} ({}..{})",
+        block.index, block.begin, block.writable_end
+    )
+}
+
+/// The panic of an array shorter than the sweep it is written by.
+#[cold]
+#[inline(never)]
+fn slots_too_short(len: usize, n_slots: usize) -> ! {
+    panic!("pair sweep: an array of {len} slots written by a sweep over {n_slots}")
+}
+
 impl<'a, T: Copy> SweepSlots<'a, T> {
     /// The slots of `values`, borrowed for the sweep.
     pub(crate) fn new(values: &'a mut [T]) -> Self {
@@ -65,46 +109,43 @@ impl<'a, T: Copy> SweepSlots<'a, T> {
         self.ptr
     }
 
-    /// Slot `i` of the running `block`; panics outside the block and the next one.
+    /// The element of `slot`; panics if this array is shorter than the sweep (a check on
+    /// two numbers that do not change during a sweep).
     #[inline(always)]
-    fn slot(&self, block: &Block, i: usize) -> *mut T {
-        assert!(
-            i >= block.begin && i < block.writable_end && i < self.len,
-            "pair sweep: slot {i} outside block {} ({}..{})",
-            block.index,
-            block.begin,
-            block.writable_end
-        );
-        self.ptr.wrapping_add(i)
+    fn at(&self, slot: &Slot) -> *mut T {
+        if self.len < slot.n_slots {
+            slots_too_short(self.len, slot.n_slots);
+        }
+        self.ptr.wrapping_add(slot.index)
     }
 
-    /// Sets slot `i` to `value`.
+    /// Sets `slot` to `value`.
     #[inline(always)]
-    pub(crate) fn set(&self, block: &Block, i: usize, value: T) {
-        let p = self.slot(block, i);
-        // SAFETY: `slot` checked that i belongs to this block or the next, which no other
-        // thread accesses while this block runs.
+    pub(crate) fn set(&self, slot: &Slot, value: T) {
+        let p = self.at(slot);
+        // SAFETY: the slot belongs to the running block or the next, which no other thread
+        // accesses while this block runs (`Block::slot`), and lies within this array (`at`).
         unsafe { *p = value }
     }
 
-    /// Adds `value` to slot `i`.
+    /// Adds `value` to `slot`.
     #[inline(always)]
-    pub(crate) fn add(&self, block: &Block, i: usize, value: T)
+    pub(crate) fn add(&self, slot: &Slot, value: T)
     where
         T: std::ops::AddAssign,
     {
-        let p = self.slot(block, i);
+        let p = self.at(slot);
         // SAFETY: as in `set`.
         unsafe { *p += value }
     }
 
-    /// Subtracts `value` from slot `i`.
+    /// Subtracts `value` from `slot`.
     #[inline(always)]
-    pub(crate) fn sub(&self, block: &Block, i: usize, value: T)
+    pub(crate) fn sub(&self, slot: &Slot, value: T)
     where
         T: std::ops::SubAssign,
     {
-        let p = self.slot(block, i);
+        let p = self.at(slot);
         // SAFETY: as in `set`.
         unsafe { *p -= value }
     }
@@ -143,6 +184,7 @@ pub(crate) fn colour_sweep_listing<F: Fn(&Block, &mut [u32]) + Sync>(
             begin,
             end,
             writable_end: bounds.get(b + 2).map_or(end, |&e| e as usize),
+            n_slots,
         };
         let region: &mut [u32] = if capacity == 0 {
             &mut []

@@ -353,11 +353,12 @@ impl<'a, const D: usize> PairInteraction<'a, D> for Coupled<'a, D> {
         let pair = self.terms.fluid_pair(o, j, xij, r, factors);
         sums.add_fluid(&pair, self.shifting);
         if HALF {
-            self.acceleration.sub(block, j, pair.acc);
-            self.density_rate.add(block, j, pair.drho_j);
+            let slot = block.slot(j);
+            self.acceleration.sub(&slot, pair.acc);
+            self.density_rate.add(&slot, pair.drho_j);
             if self.shifting {
-                self.shift_gradient.sub(block, j, pair.grad_w * o.volume);
-                self.shift_kernel_sum.add(block, j, o.volume * pair.w);
+                self.shift_gradient.sub(&slot, pair.grad_w * o.volume);
+                self.shift_kernel_sum.add(&slot, o.volume * pair.w);
             }
         }
     }
@@ -376,19 +377,20 @@ impl<'a, const D: usize> PairInteraction<'a, D> for Coupled<'a, D> {
 
     #[inline(always)]
     fn finish<const HALF: bool>(&self, i: usize, sums: OwnerSums<D>, block: &Block) {
+        let slot = block.slot(i);
         if HALF {
-            self.acceleration.add(block, i, sums.acc);
-            self.density_rate.add(block, i, sums.drho);
+            self.acceleration.add(&slot, sums.acc);
+            self.density_rate.add(&slot, sums.drho);
             if self.shifting {
-                self.shift_gradient.add(block, i, sums.grad_c);
-                self.shift_kernel_sum.add(block, i, sums.ksum);
+                self.shift_gradient.add(&slot, sums.grad_c);
+                self.shift_kernel_sum.add(&slot, sums.ksum);
             }
         } else {
-            self.acceleration.set(block, i, sums.acc + self.body_force);
-            self.density_rate.set(block, i, sums.drho);
+            self.acceleration.set(&slot, sums.acc + self.body_force);
+            self.density_rate.set(&slot, sums.drho);
             if self.shifting {
-                self.shift_gradient.set(block, i, sums.grad_c);
-                self.shift_kernel_sum.set(block, i, sums.ksum);
+                self.shift_gradient.set(&slot, sums.grad_c);
+                self.shift_kernel_sum.set(&slot, sums.ksum);
             }
         }
     }

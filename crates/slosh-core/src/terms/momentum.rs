@@ -310,7 +310,7 @@ impl<'a, const D: usize> PairInteraction<'a, D> for Momentum<'a, D> {
         let term = self.terms.fluid_term_with(o, j, xij, factors);
         *acc += term;
         if HALF {
-            self.acceleration.sub(block, j, term);
+            self.acceleration.sub(&block.slot(j), term);
         }
     }
 
@@ -323,9 +323,9 @@ impl<'a, const D: usize> PairInteraction<'a, D> for Momentum<'a, D> {
     #[inline(always)]
     fn finish<const HALF: bool>(&self, i: usize, acc: Vector<D>, block: &Block) {
         if HALF {
-            self.acceleration.add(block, i, acc);
+            self.acceleration.add(&block.slot(i), acc);
         } else {
-            self.acceleration.set(block, i, acc + self.body_force);
+            self.acceleration.set(&block.slot(i), acc + self.body_force);
         }
     }
 }
