@@ -170,7 +170,6 @@ impl<const D: usize> Simulation<D> {
                 &self.fluid,
                 &mut self.walls,
                 &mut self.next_wall_density,
-                &mut self.buffers.wall_pressure_next,
             )),
             WallStage::Adami { no_slip_viscous } => {
                 let (inv_gamma, no_slip) = (self.buffers.k.inv_gamma, self.params.wall_no_slip);

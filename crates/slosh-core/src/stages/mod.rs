@@ -11,7 +11,7 @@ mod continuity;
 mod forces;
 mod leapfrog;
 mod shifting;
-mod summation;
+pub(crate) mod summation;
 mod symplectic;
 mod walls;
 pub(crate) use continuity::*;

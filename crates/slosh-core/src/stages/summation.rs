@@ -186,18 +186,7 @@ pub(crate) fn eos_pass<const D: usize>(
     strain_from_gradient: bool,
 ) {
     fluid_eos(c, fluid, next_density, strain_from_gradient);
-    walls
-        .density
-        .par_iter_mut()
-        .zip(walls.inverse_density.par_iter_mut())
-        .zip(next_wall_density.par_iter())
-        .zip(walls.pressure.par_iter_mut())
-        .with_min_len(PAR_CHUNK)
-        .for_each(|(((rho, inv), &rho_new), p)| {
-            *rho = rho_new;
-            *inv = 1.0 / rho_new;
-            *p = c.pressure(rho_new);
-        });
+    wall_eos(c, walls, next_wall_density);
 }
 
 /// What the fluid pairs of the sorted density sweep read and write, so that the batch
@@ -439,5 +428,22 @@ fn fluid_eos<const D: usize>(
                 // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
                 *g = strain_rate_of(g);
             }
+        });
+}
+
+/// The EOS (Eq. 18) of the wall particles from their densities (Eq. 19 with the Eq. 20 reset,
+/// [`wall_densities`]).
+pub(crate) fn wall_eos<const D: usize>(c: &PassConstants, walls: &mut Walls<D>, next_wall_density: &[f64]) {
+    walls
+        .density
+        .par_iter_mut()
+        .zip(walls.inverse_density.par_iter_mut())
+        .zip(next_wall_density.par_iter())
+        .zip(walls.pressure.par_iter_mut())
+        .with_min_len(PAR_CHUNK)
+        .for_each(|(((rho, inv), &rho_new), p)| {
+            *rho = rho_new;
+            *inv = 1.0 / rho_new;
+            *p = c.pressure(rho_new);
         });
 }
