@@ -20,4 +20,23 @@ pub mod sweep;
 pub mod sweep_plot;
 pub mod validate;
 
-pub use runner::{run_case, RunOptions, Summary};
+pub use runner::{run_case, run_case_with_stop, RunOptions, Summary};
+
+/// Parses `--set NAME=VALUE` arguments into the overrides of a case (the value as
+/// [`slosh_script::parse_set_value`] reads it).
+pub fn parse_sets(sets: &[String]) -> anyhow::Result<slosh_script::CaseOptions> {
+    let mut options = slosh_script::CaseOptions::default();
+    for s in sets {
+        let Some((name, value)) = s.split_once('=') else {
+            anyhow::bail!("--set {s}: expected NAME=VALUE, e.g. --set duration=6");
+        };
+        let name = name.trim();
+        if name.is_empty() {
+            anyhow::bail!("--set {s}: the parameter name is empty");
+        }
+        options
+            .overrides
+            .push((name.to_string(), slosh_script::parse_set_value(value)));
+    }
+    Ok(options)
+}

@@ -2,8 +2,8 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
-use slosh_cli::{run_case, RunOptions};
-use slosh_script::{list_params_with, load_case, parse_set_value, CaseOptions};
+use slosh_cli::{parse_sets, run_case, RunOptions};
+use slosh_script::{list_params_with, load_case, CaseOptions};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -315,24 +315,6 @@ fn set_threads(threads: Option<usize>) -> Result<()> {
             .context("cannot start the worker threads")?;
     }
     Ok(())
-}
-
-/// Parses `--set NAME=VALUE` arguments.
-fn parse_sets(sets: &[String]) -> Result<CaseOptions> {
-    let mut options = CaseOptions::default();
-    for s in sets {
-        let Some((name, value)) = s.split_once('=') else {
-            bail!("--set {s}: expected NAME=VALUE, e.g. --set duration=6");
-        };
-        let name = name.trim();
-        if name.is_empty() {
-            bail!("--set {s}: the parameter name is empty");
-        }
-        options
-            .overrides
-            .push((name.to_string(), parse_set_value(value)));
-    }
-    Ok(options)
 }
 
 fn cmd_run(args: RunArgs) -> Result<()> {

@@ -9,7 +9,7 @@ use slosh_core::{Simulation, SoundSpeedRule, SphParams, Vector};
 use slosh_io::{FrameSeries, PlotSpec, PointArray, Series, SeriesWriter};
 use slosh_run::{
     Gauge, HookError, LoadFilter, LoadPeak, Observer, RoofImpact, RoofTank, RunPlan, RunResult,
-    RunStatus, StepError,
+    RunStatus, StepError, StopRequest,
 };
 use slosh_script::{Case, ParamValue, TankSpec};
 use std::path::{Path, PathBuf};
@@ -195,14 +195,26 @@ pub struct TheoryNumbers {
 }
 
 /// Runs a case to the end (or to a blow-up, keeping what was written) and returns the summary.
-pub fn run_case(mut case: Case, opts: &RunOptions) -> Result<Summary> {
+/// SIGINT and SIGTERM stop it once [`crate::interrupt::install`] has installed the handlers.
+pub fn run_case(case: Case, opts: &RunOptions) -> Result<Summary> {
+    run_case_with_stop(case, opts, &mut crate::interrupt::received)
+}
+
+/// [`run_case`] with the caller's stop request, asked after every step: `Some(code)` ends the
+/// run as an interruption by signal `code` (its outputs are written up to that step). A front
+/// end that handles signals itself (the Python package) passes its own.
+pub fn run_case_with_stop(
+    mut case: Case,
+    opts: &RunOptions,
+    stop: &mut dyn StopRequest,
+) -> Result<Summary> {
     // Held until the run's outputs are complete.
     let folder = if opts.resume {
         crate::run_folder::RunFolder::claim_to_resume(&opts.out_dir, &case.name, &case.script)?
     } else {
         crate::run_folder::RunFolder::claim(&opts.out_dir, &case.name, &case.script)?
     };
-    let result = build_and_run(&mut case, opts);
+    let result = build_and_run(&mut case, opts, stop);
     if let Err(e) = &result {
         folder.mark_failed_if_running(&format!("{e:#}"));
     }
@@ -210,7 +222,11 @@ pub fn run_case(mut case: Case, opts: &RunOptions) -> Result<Summary> {
 }
 
 /// Fits, builds and runs a claimed case.
-fn build_and_run(case: &mut Case, opts: &RunOptions) -> Result<Summary> {
+fn build_and_run(
+    case: &mut Case,
+    opts: &RunOptions,
+    stop: &mut dyn StopRequest,
+) -> Result<Summary> {
     let fit = build::fit_to_lattice(&case.tank, case.dx)?;
     crate::memory::check_memory_budget(&fit.tank, fit.dx, opts.max_memory_bytes)?;
     let mut sph = case.sph.clone();
@@ -225,12 +241,12 @@ fn build_and_run(case: &mut Case, opts: &RunOptions) -> Result<Summary> {
         2 => {
             let setup = build::build_2d(&fit.tank, fit.dx)?;
             let sim = Simulation::<2>::new(setup, sph)?;
-            run_built(sim, case, fit, opts)
+            run_built(sim, case, fit, opts, stop)
         }
         _ => {
             let setup = build::build_3d(&fit.tank, fit.dx, &case.sandbox)?;
             let sim = Simulation::<3>::new(setup, sph)?;
-            run_built(sim, case, fit, opts)
+            run_built(sim, case, fit, opts, stop)
         }
     }
 }
@@ -438,6 +454,7 @@ fn run_built<const D: usize>(
     case: &mut Case,
     mut fit: build::FittedTank,
     opts: &RunOptions,
+    stop: &mut dyn StopRequest,
 ) -> Result<Summary> {
     for warning in &case.warnings {
         eprintln!("warning: {warning}");
@@ -578,7 +595,7 @@ fn run_built<const D: usize>(
         &plan,
         &mut case.excitation,
         &mut files,
-        &mut crate::interrupt::received,
+        stop,
         resume_state,
     )
     .map_err(|e| anyhow::anyhow!(e))?;
