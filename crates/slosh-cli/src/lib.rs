@@ -4,8 +4,8 @@
 
 pub mod assess;
 pub mod bench;
-pub mod checkpoint;
 pub mod build;
+pub mod checkpoint;
 pub mod interrupt;
 pub mod memory;
 pub mod post;

@@ -125,12 +125,12 @@ fn run_case(
     };
     let stop = Arc::new(AtomicBool::new(false));
     let stop_flag = Arc::clone(&stop);
-    let (done, result) = mpsc::channel();
+    let (done, mut result) = mpsc::channel();
     let worker = std::thread::Builder::new()
         .name("slosh-run".into())
         .spawn(move || {
             let mut stop_request = move || stop_flag.load(Ordering::Relaxed).then_some(SIGINT);
-            let mut work = move || run_case_with_stop(case, &opts, &mut stop_request);
+            let work = move || run_case_with_stop(case, &opts, &mut stop_request);
             let outcome = match threads {
                 Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
                     Ok(pool) => pool.install(work),
@@ -143,9 +143,12 @@ fn run_case(
         })
         .map_err(|e| PyRuntimeError::new_err(format!("cannot start the run's thread: {e}")))?;
     loop {
-        match py.detach(|| result.recv_timeout(SIGNAL_POLL)) {
+        // The receiver goes into the GIL-free closure and comes back (it is not `Sync`).
+        let (received, receiver) = py.detach(move || (result.recv_timeout(SIGNAL_POLL), result));
+        result = receiver;
+        match received {
             Ok(outcome) => {
-                let _ = py.detach(|| worker.join());
+                let _ = py.detach(move || worker.join());
                 return match outcome {
                     Ok(_) => Ok(None),
                     Err(e) if e.downcast_ref::<CaseScriptError>().is_some() => {
@@ -157,12 +160,12 @@ fn run_case(
             Err(mpsc::RecvTimeoutError::Timeout) => {
                 if let Err(interrupt) = py.check_signals() {
                     stop.store(true, Ordering::Relaxed);
-                    let _ = py.detach(|| worker.join());
+                    let _ = py.detach(move || worker.join());
                     return Err(interrupt);
                 }
             }
             Err(mpsc::RecvTimeoutError::Disconnected) => {
-                let _ = py.detach(|| worker.join());
+                let _ = py.detach(move || worker.join());
                 return Err(PyRuntimeError::new_err(
                     "the run's thread ended without a result (a panic: see stderr)",
                 ));
@@ -176,9 +179,8 @@ fn run_case(
 /// `slosh run SCRIPT --list-params` prints them.
 #[pyfunction]
 fn list_params<'py>(py: Python<'py>, script: PathBuf) -> PyResult<Bound<'py, PyList>> {
-    let declared =
-        slosh_script::list_params_with(&script, &slosh_script::CaseOptions::default())
-            .map_err(|e| script_error(py, &e))?;
+    let declared = slosh_script::list_params_with(&script, &slosh_script::CaseOptions::default())
+        .map_err(|e| script_error(py, &e))?;
     let list = PyList::empty(py);
     for p in declared {
         let d = PyDict::new(py);

@@ -144,16 +144,26 @@ def test_script_error_has_line_and_column(tmp_path):
 def test_params_match_list_params():
     params = slosh.params(PAPER_SCRIPT)
     assert params["dx"] == {
-        "type": "float",
+        "type": "number",
         "default": 0.02,
         "unit": "m",
         "description": "particle spacing",
     }
     assert params["scheme"]["default"] == "paper"
     assert params["smoothing_steps"]["default"] == 20
-    listed = cli("run", str(PAPER_SCRIPT), "--list-params")
-    names = [line.split()[0] for line in listed.splitlines()[1:] if line.strip()]
-    assert list(params) == names[: len(params)]
+    # The table of `--list-params`: parameter, type, default, unit, description.
+    listed = cli("run", str(PAPER_SCRIPT), "--list-params").split("\n\n")[0]
+    rows = [line.split(None, 4) for line in listed.splitlines()[1:]]
+    assert [r[0] for r in rows] == list(params)
+    for name, kind, default, unit, *_ in rows:
+        p = params[name]
+        assert (kind, unit) == (p["type"], p["unit"] or "-")
+        if default.startswith('"'):
+            assert p["default"] == default.strip('"')
+        elif default in ("true", "false"):
+            assert p["default"] is (default == "true")
+        else:
+            assert p["default"] == float(default)
 
 
 def test_failed_run_raises_simulation_error_with_partial_run(tmp_path):
@@ -260,25 +270,39 @@ def test_record_plain_text_needs_units(tmp_path):
     assert np.allclose(record.accel, [0.0, 0.5 * 9.81, -9.81, 0.0], rtol=0, atol=1e-12)
 
 
-def test_ctrl_c_raises_keyboard_interrupt_within_a_second(tmp_path):
-    # A run of 12 s of simulated time (many seconds of wall time), interrupted after 1.5 s.
+def interrupted_after(seconds: float, **kwargs) -> float:
+    """Runs the 12 s §3.1 case at dx = 0.02 m (many seconds of wall time), sends SIGINT to
+    this process after `seconds`, and returns how long after the signal KeyboardInterrupt
+    came."""
     sent = {}
 
     def interrupt():
         sent["at"] = time.monotonic()
         os.kill(os.getpid(), signal.SIGINT)
 
-    timer = threading.Timer(1.5, interrupt)
-    out = tmp_path / "interrupted"
+    timer = threading.Timer(seconds, interrupt)
     timer.start()
     try:
         with pytest.raises(KeyboardInterrupt):
-            slosh.run(PAPER_SCRIPT, out=out, threads=1, dx=0.02, frame_interval=0)
+            slosh.run(PAPER_SCRIPT, threads=1, dx=0.02, frame_interval=0, **kwargs)
     finally:
         timer.cancel()
-    elapsed = time.monotonic() - sent["at"]
+    return time.monotonic() - sent["at"]
+
+
+def test_ctrl_c_raises_keyboard_interrupt_within_a_second():
+    elapsed = interrupted_after(1.5)
     assert elapsed < 1.0, f"KeyboardInterrupt came {elapsed:.2f} s after SIGINT"
-    # The run stopped cleanly: its outputs up to the step the signal came in.
+
+
+def test_ctrl_c_stops_the_run_cleanly(tmp_path):
+    # With an output folder the run completes its outputs (plots included) before the
+    # exception, as `slosh run` does on SIGINT.
+    out = tmp_path / "interrupted"
+    elapsed = interrupted_after(1.5, out=out)
+    assert elapsed < 5.0, f"KeyboardInterrupt came {elapsed:.2f} s after SIGINT"
     run = slosh.Run.load(out)
     assert run.status == "interrupted"
+    assert "interrupted by SIGINT" in run.error
     assert 0.0 < run.series["t"][-1] < 12.0
+    assert len(run.series["t"]) == len(run.series["eta_left"])

@@ -97,8 +97,8 @@ class Run:
             self.series = dict(zip(names, columns))
         units = folder / "series_units.csv"
         if units.exists():
-            names, values = _read_header_and_row(units)
-            self.units = dict(zip(names, values))
+            rows = units.read_text(encoding="utf-8").splitlines()[1:]
+            self.units = dict(row.split(",", 1) for row in rows if "," in row)
         summary_file = folder / "summary.ron"
         self.summary: Dict[str, Any] = (
             _ron.loads(summary_file.read_text(encoding="utf-8")) if summary_file.exists() else {}
@@ -150,13 +150,6 @@ class Run:
             f"Run(case={self.summary.get('case')!r}, status={self.status!r}, "
             f"{rows} rows, {len(self.series)} columns)"
         )
-
-
-def _read_header_and_row(path: Path) -> tuple:
-    lines = path.read_text(encoding="utf-8").splitlines()
-    names = lines[0].split(",") if lines else []
-    values = lines[1].split(",") if len(lines) > 1 else [""] * len(names)
-    return names, values
 
 
 def run(
