@@ -1018,11 +1018,7 @@ fn run_one(exe: &Path, case: &Path, p: &Planned, threads: usize, allow_read: &[P
     let summary_path = p.dir.join("summary.ron");
     // A case interrupted before (a signal, a cluster's time limit and requeue) with these
     // parameters continues from its checkpoint.
-    let resumable = p
-        .dir
-        .join(crate::checkpoint::CHECKPOINT_DIR)
-        .join("state.bin")
-        .exists()
+    let resumable = p.dir.join(crate::checkpoint::CHECKPOINT_DIR).join("state.bin").exists()
         && read_summary(&summary_path).ok().is_some_and(|s| {
             s.head.status == "interrupted" && same_parameters(&s.head, &p.expected, &p.values)
         });

@@ -72,14 +72,9 @@ fn comparable_summary(dir: &Path) -> String {
             skipping = !line.ends_with("],");
             continue;
         }
-        if [
-            "wall_time_s",
-            "particle_steps_per_s",
-            "checkpoints_written",
-            "phase_",
-        ]
-        .iter()
-        .any(|k| line.contains(k))
+        if ["wall_time_s", "particle_steps_per_s", "checkpoints_written", "phase_"]
+            .iter()
+            .any(|k| line.contains(k))
         {
             continue;
         }
@@ -95,12 +90,7 @@ fn same_file(a: &Path, b: &Path) {
 
 /// Runs `args` straight into one folder, and into another interrupted once `rows` series
 /// rows exist, then resumed; compares the files.
-fn interrupted_run_resumes_to_the_same_files(
-    test: &str,
-    args: &[&str],
-    rows: usize,
-    files: &[&str],
-) {
+fn interrupted_run_resumes_to_the_same_files(test: &str, args: &[&str], rows: usize, files: &[&str]) {
     let dir = temp(test);
     let (straight, resumed) = (dir.join("straight"), dir.join("resumed"));
     run_to_end(args, &straight);
@@ -121,25 +111,18 @@ fn interrupted_run_resumes_to_the_same_files(
     assert!(summary.contains("status: \"interrupted\""), "{summary}");
     assert!(resumed.join("checkpoint/state.bin").exists());
 
-    let o = slosh(&["resume", resumed.to_str().unwrap(), "--quiet"])
-        .output()
-        .unwrap();
+    let o = slosh(&["resume", resumed.to_str().unwrap(), "--quiet"]).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     for f in files {
         same_file(&straight.join(f), &resumed.join(f));
     }
     assert_eq!(comparable_summary(&straight), comparable_summary(&resumed));
     let summary = std::fs::read_to_string(resumed.join("summary.ron")).unwrap();
-    assert!(
-        summary.contains("from_step:"),
-        "the resumption is recorded: {summary}"
-    );
+    assert!(summary.contains("from_step:"), "the resumption is recorded: {summary}");
     assert!(summary.contains("status: \"completed\""), "{summary}");
 
     // A complete run has nothing to resume.
-    let o = slosh(&["resume", resumed.to_str().unwrap(), "--quiet"])
-        .output()
-        .unwrap();
+    let o = slosh(&["resume", resumed.to_str().unwrap(), "--quiet"]).output().unwrap();
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("nothing to resume"));
 }
@@ -205,9 +188,7 @@ fn resume_refuses_what_it_cannot_continue() {
     // A folder without a checkpoint.
     let empty = dir.join("empty");
     std::fs::create_dir_all(&empty).unwrap();
-    let o = slosh(&["resume", empty.to_str().unwrap()])
-        .output()
-        .unwrap();
+    let o = slosh(&["resume", empty.to_str().unwrap()]).output().unwrap();
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("no checkpoint"));
 
@@ -220,16 +201,10 @@ fn resume_refuses_what_it_cannot_continue() {
                 fn ground_accel(t) { amplitude * 25.0 * sin(5.0 * t) }\n";
     std::fs::write(&script, text).unwrap();
     let out = dir.join("out");
-    let child = slosh(&[
-        "run",
-        script.to_str().unwrap(),
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-    ])
-    .stderr(Stdio::piped())
-    .spawn()
-    .unwrap();
+    let child = slosh(&["run", script.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()])
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
     wait_for_lines(&out.join("series.csv"), 20);
     interrupt(&child);
     let o = child.wait_with_output().unwrap();
@@ -275,11 +250,7 @@ fn an_interrupted_sweep_case_continues_from_its_checkpoint() {
         "--out",
         out.to_str().unwrap(),
     ];
-    let child = slosh(&args)
-        .stderr(Stdio::piped())
-        .stdout(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child = slosh(&args).stderr(Stdio::piped()).stdout(Stdio::piped()).spawn().unwrap();
     // The case folder appears once the sweep starts the case.
     let start = Instant::now();
     let case_dir = loop {
@@ -298,28 +269,14 @@ fn an_interrupted_sweep_case_continues_from_its_checkpoint() {
     wait_for_lines(&case_dir.join("series.csv"), 100);
     interrupt(&child);
     let o = child.wait_with_output().unwrap();
-    assert_eq!(
-        o.status.code(),
-        Some(130),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_eq!(o.status.code(), Some(130), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(case_dir.join("checkpoint/state.bin").exists());
 
     let o = slosh(&args).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let summary = std::fs::read_to_string(case_dir.join("summary.ron")).unwrap();
     assert!(summary.contains("status: \"completed\""), "{summary}");
-    assert!(
-        summary.contains("from_step:"),
-        "continued from its checkpoint: {summary}"
-    );
-    let rows = std::fs::read_to_string(case_dir.join("series.csv"))
-        .unwrap()
-        .lines()
-        .count();
-    assert!(
-        rows > 400,
-        "a header and the rows of 4 s at 0.01 s: {rows} lines"
-    );
+    assert!(summary.contains("from_step:"), "continued from its checkpoint: {summary}");
+    let rows = std::fs::read_to_string(case_dir.join("series.csv")).unwrap().lines().count();
+    assert!(rows > 400, "a header and the rows of 4 s at 0.01 s: {rows} lines");
 }
