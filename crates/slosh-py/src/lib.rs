@@ -21,7 +21,7 @@ use std::sync::{mpsc, Arc};
 use std::time::Duration;
 
 create_exception!(
-    _slosh,
+    slosh,
     ScriptError,
     PyException,
     "An error in a case script or in the parameters given to it; `file`, `line` and `column` \
