@@ -2,7 +2,7 @@
 
 use crate::kernel::Kernel;
 use crate::sim::*;
-use crate::params::{BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, SphParams};
+use crate::params::{DensityDiffusion, DensityMethod, Integrator, SphParams};
 
 
 /// Chunk length for rayon loops: large enough to amortise scheduling.
@@ -171,17 +171,13 @@ pub(crate) fn merge_status<const D: usize>(
     (a.0 + b.0, a.1 + b.1, a.2.or(b.2))
 }
 
-/// Flags and constants of the modern passes, fixed for a run.
+/// Constants of the stages beyond the paper's, fixed for a run (which stages run is the
+/// [`crate::stages::StepPlan`]'s).
 #[derive(Clone, Copy)]
-pub(crate) struct CoupledConstants {
-    pub(crate) continuity: bool,
-    /// 0: none, 1: Molteni–Colagrossi, 2: Fourtakas.
-    pub(crate) diffusion: u8,
+pub(crate) struct StageConstants {
     /// δ h c0 (m²/s) of the diffusion term.
     pub(crate) diffusion_coeff: f64,
-    pub(crate) adami: bool,
-    pub(crate) no_slip: bool,
-    pub(crate) symplectic: bool,
+    /// The shifting coefficient A, when shifting is on.
     pub(crate) shifting: Option<f64>,
     /// 1/γ of the inverse EOS.
     pub(crate) inv_gamma: f64,
@@ -189,7 +185,7 @@ pub(crate) struct CoupledConstants {
 
 /// Per-run buffers of the stages beyond the paper's, allocated once in `Simulation::new`.
 pub(crate) struct StageBuffers<const D: usize> {
-    pub(crate) k: CoupledConstants,
+    pub(crate) k: StageConstants,
     /// ρ^n, the density at the start of a symplectic step (kg/m³).
     pub(crate) density_start: Vec<f64>,
     /// Hydrostatic density ρ_H of Fourtakas' diffusion (kg/m³).
@@ -204,34 +200,30 @@ pub(crate) struct StageBuffers<const D: usize> {
 
 impl<const D: usize> StageBuffers<D> {
     pub(crate) fn new(params: &SphParams, h: f64, c0: f64, n: usize, n_wall: usize) -> Self {
-        let (diffusion, delta) = match params.density_diffusion {
-            DensityDiffusion::None => (0, 0.0),
-            DensityDiffusion::MolteniColagrossi { delta } => (1, delta),
-            DensityDiffusion::Fourtakas { delta } => (2, delta),
-        };
         let continuity = params.density == DensityMethod::Continuity;
-        let k = CoupledConstants {
-            continuity,
-            diffusion: if continuity && delta > 0.0 {
-                diffusion
-            } else {
-                0
-            },
+        let delta = match params.density_diffusion {
+            DensityDiffusion::None => 0.0,
+            DensityDiffusion::MolteniColagrossi { delta } | DensityDiffusion::Fourtakas { delta } => {
+                delta
+            }
+        };
+        let fourtakas = continuity
+            && matches!(params.density_diffusion, DensityDiffusion::Fourtakas { delta } if delta > 0.0);
+        let k = StageConstants {
             diffusion_coeff: delta * h * c0,
-            adami: params.boundary == BoundaryMethod::Adami,
-            no_slip: params.wall_no_slip,
-            symplectic: params.integrator == Integrator::Symplectic,
             shifting: params.shifting.filter(|a| *a > 0.0),
             inv_gamma: 1.0 / params.eos_gamma,
         };
         let shift_len = if k.shifting.is_some() { n } else { 0 };
+        let symplectic = params.integrator == Integrator::Symplectic;
+        let no_slip = params.wall_no_slip;
         StageBuffers {
             k,
-            density_start: vec![params.rest_density; if k.symplectic { n } else { 0 }],
-            hydro_density: vec![params.rest_density; if k.diffusion == 2 { n } else { 0 }],
+            density_start: vec![params.rest_density; if symplectic { n } else { 0 }],
+            hydro_density: vec![params.rest_density; if fourtakas { n } else { 0 }],
             shift_gradient: vec![Vector::<D>::zeros(); shift_len],
             shift_kernel_sum: vec![1.0; shift_len],
-            wall_velocity: vec![Vector::<D>::zeros(); if k.no_slip { n_wall } else { 0 }],
+            wall_velocity: vec![Vector::<D>::zeros(); if no_slip { n_wall } else { 0 }],
             wall_pressure_next: vec![0.0; n_wall],
         }
     }

@@ -201,7 +201,7 @@ impl<const D: usize> Simulation<D> {
     fn force_stage(&mut self, body_force: Vector<D>) {
         match self.plan.forces {
             ForceStage::Momentum { sweep } => self.momentum_stage(sweep, body_force),
-            ForceStage::Coupled { sweep } => {
+            ForceStage::Coupled(force) => {
                 // The strain-rate sweep of continuity density listed the pairs of these
                 // positions; otherwise the pairs come from the grid.
                 let lists = matches!(
@@ -211,7 +211,7 @@ impl<const D: usize> Simulation<D> {
                         ..
                     }
                 );
-                self.coupled_stage(sweep, lists, body_force)
+                self.coupled_stage(force, lists, body_force)
             }
         }
     }

@@ -3,7 +3,7 @@
 //! ([`crate::terms::Momentum`], [`crate::terms::Coupled`]), over the pairs of the half or
 //! the full sweep ([`crate::sweep::half_sweep`], [`crate::sweep::full_sweep`]).
 
-use super::PairSweep;
+use super::{CoupledForce, DensityRate, PairSweep, WallForce};
 use crate::sim::*;
 use crate::sweep::{full_sweep, half_sweep};
 use crate::terms::*;
@@ -36,14 +36,63 @@ impl<const D: usize> Simulation<D> {
         self.fluid.acceleration = acceleration;
     }
 
-    /// The momentum equation coupled with the continuity, diffusion and shifting sums of
-    /// the parts switched on. With `lists` (the strain-rate sweep's half lists of these
+    /// The momentum equation coupled with the density rate, the wall force and the
+    /// shifting sums of the plan. With `lists` (the strain-rate sweep's half lists of these
     /// positions) the half sweep reads its pairs from them, otherwise from the grid; the
     /// full sweep searches.
-    pub(crate) fn coupled_stage(&mut self, sweep: PairSweep, lists: bool, body_force: Vector<D>) {
-        let c = self.constants;
-        let mut out = ForceOutputs::take(&mut self.fluid, &mut self.buffers);
-        match (sweep, &self.search) {
+    pub(crate) fn coupled_stage(&mut self, force: CoupledForce, lists: bool, body_force: Vector<D>) {
+        let run = CoupledRun {
+            sweep: force.sweep,
+            lists,
+            body_force,
+            wall_force: force.wall_force,
+            shifting_sums: force.shifting_sums,
+        };
+        match force.density_rate {
+            DensityRate::None => run.with_walls::<NoDensityRate>(self),
+            DensityRate::Continuity => run.with_walls::<ContinuityOnly>(self),
+            DensityRate::MolteniColagrossi => run.with_walls::<MolteniColagrossiDiffusion>(self),
+            DensityRate::Fourtakas => run.with_walls::<FourtakasDiffusion>(self),
+        }
+    }
+}
+
+/// The choices of a coupled force pass, turned into the types of its pair terms one at a
+/// time (density rate, wall force, shifting sums), so that the pair loop is compiled for
+/// the run's parts.
+struct CoupledRun<const D: usize> {
+    sweep: PairSweep,
+    lists: bool,
+    body_force: Vector<D>,
+    wall_force: WallForce,
+    shifting_sums: bool,
+}
+
+impl<const D: usize> CoupledRun<D> {
+    fn with_walls<R: DensityRateTerm>(&self, sim: &mut Simulation<D>) {
+        match self.wall_force {
+            WallForce::Dynamic => self.with_shifting::<R, DynamicWallForce>(sim),
+            WallForce::AdamiFreeSlip => self.with_shifting::<R, AdamiFreeSlipForce>(sim),
+            WallForce::AdamiNoSlip => self.with_shifting::<R, AdamiNoSlipForce>(sim),
+        }
+    }
+
+    fn with_shifting<R: DensityRateTerm, W: WallForceTerm>(&self, sim: &mut Simulation<D>) {
+        if self.shifting_sums {
+            self.pass::<R, W, true>(sim)
+        } else {
+            self.pass::<R, W, false>(sim)
+        }
+    }
+
+    fn pass<R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool>(
+        &self,
+        sim: &mut Simulation<D>,
+    ) {
+        let c = sim.constants;
+        let body_force = self.body_force;
+        let mut out = ForceOutputs::take(&mut sim.fluid, &mut sim.buffers);
+        match (self.sweep, &sim.search) {
             (PairSweep::Half, Search::Grid(grid)) => {
                 out.acceleration
                     .par_iter_mut()
@@ -61,15 +110,29 @@ impl<const D: usize> Simulation<D> {
                         *g = Vector::<D>::zeros();
                         *s = 0.0;
                     });
-                let pass = Coupled::new(&c, &self.fluid, &self.walls, &self.buffers, &mut out, body_force);
-                let lists = lists.then_some(&self.fluid.neighbours);
-                half_sweep(grid, &self.blocks, lists, c.support_sq, &pass);
+                let pass = Coupled::<D, R, W, SHIFT>::new(
+                    &c,
+                    &sim.fluid,
+                    &sim.walls,
+                    &sim.buffers,
+                    &mut out,
+                    body_force,
+                );
+                let lists = self.lists.then_some(&sim.fluid.neighbours);
+                half_sweep(grid, &sim.blocks, lists, c.support_sq, &pass);
             }
             (_, search) => {
-                let pass = Coupled::new(&c, &self.fluid, &self.walls, &self.buffers, &mut out, body_force);
+                let pass = Coupled::<D, R, W, SHIFT>::new(
+                    &c,
+                    &sim.fluid,
+                    &sim.walls,
+                    &sim.buffers,
+                    &mut out,
+                    body_force,
+                );
                 with_search!(search, s => full_sweep(s, None, c.support_sq, &pass));
             }
         }
-        out.restore(&mut self.fluid, &mut self.buffers);
+        out.restore(&mut sim.fluid, &mut sim.buffers);
     }
 }

@@ -19,7 +19,7 @@ pub(crate) use continuity::*;
 
 pub(crate) use walls::*;
 
-use crate::params::{BoundaryMethod, DensityMethod, Integrator, SphParams};
+use crate::params::{BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, SphParams};
 
 /// How the fluid pairs of a pass are visited.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -73,9 +73,44 @@ pub(crate) enum WallStage {
 pub(crate) enum ForceStage {
     /// The momentum equation alone (Eq. 8–16), reading the density pass's neighbour lists.
     Momentum { sweep: PairSweep },
-    /// The momentum equation with, in the same pair loop, the continuity equation, the
-    /// density diffusion and the shifting sums of the parts switched on.
-    Coupled { sweep: PairSweep },
+    /// The momentum equation with, in the same pair loop, the density rate, the wall force
+    /// and the shifting sums of the run.
+    Coupled(CoupledForce),
+}
+
+/// The parts of the coupled force pass; each becomes a type of the pass
+/// ([`crate::terms::Coupled`]), so its pair loop is compiled for the run's parts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct CoupledForce {
+    pub(crate) sweep: PairSweep,
+    pub(crate) density_rate: DensityRate,
+    pub(crate) wall_force: WallForce,
+    /// The shifting gradient ∇C and kernel sum are summed.
+    pub(crate) shifting_sums: bool,
+}
+
+/// The density rate the coupled force pass sums.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum DensityRate {
+    /// None: summation density.
+    None,
+    /// The continuity equation (Monaghan 1992).
+    Continuity,
+    /// With the δ-SPH diffusion of Molteni & Colagrossi (2009).
+    MolteniColagrossi,
+    /// With the δ-SPH diffusion of Fourtakas et al. (2019), hydrostatic part removed.
+    Fourtakas,
+}
+
+/// What a wall particle adds to the coupled pass's momentum besides its pressure.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum WallForce {
+    /// As a fluid particle at rest: artificial viscosity and viscous stress (paper §2.5).
+    Dynamic,
+    /// Adami walls, free slip: pressure only.
+    AdamiFreeSlip,
+    /// Adami walls, no slip, viscous liquid: the viscous force of the mirrored velocity.
+    AdamiNoSlip,
 }
 
 /// The time integrator.
@@ -123,7 +158,7 @@ impl StepPlan {
                 velocity_gradient: viscous.then_some(sweep),
                 hydrostatic: matches!(
                     params.density_diffusion,
-                    crate::params::DensityDiffusion::Fourtakas { delta } if delta > 0.0
+                    DensityDiffusion::Fourtakas { delta } if delta > 0.0
                 ),
             },
         };
@@ -141,7 +176,28 @@ impl StepPlan {
                 },
             },
             forces: if coupled {
-                ForceStage::Coupled { sweep }
+                let continuity = params.density == DensityMethod::Continuity;
+                ForceStage::Coupled(CoupledForce {
+                    sweep,
+                    density_rate: match params.density_diffusion {
+                        _ if !continuity => DensityRate::None,
+                        DensityDiffusion::MolteniColagrossi { delta } if delta > 0.0 => {
+                            DensityRate::MolteniColagrossi
+                        }
+                        DensityDiffusion::Fourtakas { delta } if delta > 0.0 => {
+                            DensityRate::Fourtakas
+                        }
+                        _ => DensityRate::Continuity,
+                    },
+                    wall_force: match params.boundary {
+                        BoundaryMethod::Dynamic => WallForce::Dynamic,
+                        BoundaryMethod::Adami if params.wall_no_slip && viscous => {
+                            WallForce::AdamiNoSlip
+                        }
+                        BoundaryMethod::Adami => WallForce::AdamiFreeSlip,
+                    },
+                    shifting_sums: params.shifting.is_some_and(|a| a > 0.0),
+                })
             } else {
                 ForceStage::Momentum { sweep }
             },
@@ -186,9 +242,22 @@ impl StepPlan {
         };
         let forces = match self.forces {
             ForceStage::Momentum { sweep: s } => format!("momentum ({})", sweep(s)),
-            ForceStage::Coupled { sweep: s } => {
-                format!("momentum with continuity/diffusion/shifting sums ({})", sweep(s))
-            }
+            ForceStage::Coupled(CoupledForce {
+                sweep: s,
+                density_rate,
+                shifting_sums,
+                ..
+            }) => format!(
+                "momentum with {}{} ({})",
+                match density_rate {
+                    DensityRate::None => "no density rate",
+                    DensityRate::Continuity => "continuity",
+                    DensityRate::MolteniColagrossi => "continuity, Molteni–Colagrossi diffusion",
+                    DensityRate::Fourtakas => "continuity, Fourtakas diffusion",
+                },
+                if shifting_sums { ", shifting sums" } else { "" },
+                sweep(s)
+            ),
         };
         let integration = match self.integration {
             TimeIntegration::LeapFrog => "leap-frog",

@@ -2,6 +2,7 @@
 
 use crate::error::SimError;
 use crate::sim::*;
+use crate::stages::DensityStage;
 use rayon::prelude::*;
 
 impl<const D: usize> Simulation<D> {
@@ -13,6 +14,7 @@ impl<const D: usize> Simulation<D> {
     /// Afterwards `velocity` holds the mid-step estimate and `velocity_half` holds v^n.
     pub(crate) fn symplectic_predictor(&mut self, dt: f64) {
         let half = 0.5 * dt;
+        let continuity = matches!(self.plan.density, DensityStage::Continuity { .. });
         let st = &mut self.buffers;
         self.fluid
             .position
@@ -26,7 +28,7 @@ impl<const D: usize> Simulation<D> {
                 *vh = v + half * a;
             });
         std::mem::swap(&mut self.fluid.velocity, &mut self.fluid.velocity_half);
-        if st.k.continuity {
+        if continuity {
             let c = self.constants;
             self.fluid
                 .density
@@ -50,6 +52,7 @@ impl<const D: usize> Simulation<D> {
     /// Domínguez et al. 2022 Eq. 20–22). `velocity_half` keeps the mid-step estimate.
     pub(crate) fn symplectic_corrector(&mut self, dt: f64) {
         let half = 0.5 * dt;
+        let continuity = matches!(self.plan.density, DensityStage::Continuity { .. });
         let st = &mut self.buffers;
         std::mem::swap(&mut self.fluid.velocity, &mut self.fluid.velocity_half);
         self.fluid
@@ -62,7 +65,7 @@ impl<const D: usize> Simulation<D> {
                 *v += dt * a;
                 *x += half * *v;
             });
-        if st.k.continuity {
+        if continuity {
             let c = self.constants;
             self.fluid
                 .density

@@ -4,28 +4,113 @@ use crate::sim::*;
 use crate::sweep::{Block, PairInteraction, SweepSlots};
 use crate::terms::*;
 
-/// What the pair terms of the modern force pass read: one copy for both neighbour backends,
-/// its methods always inlined into their sweeps.
-pub(crate) struct ModernPairTerms<'a, const D: usize> {
+/// The density rate of the coupled pass, chosen once per run: none (summation density), or
+/// the continuity equation dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij (Monaghan 1992) with or
+/// without a δ-SPH diffusion term.
+pub(crate) trait DensityRateTerm: Sync {
+    /// The continuity equation is summed.
+    const CONTINUITY: bool;
+    /// A diffusion term ψ_ij is added to it.
+    const DIFFUSION: bool;
+    /// The density of particle i the diffusion term differences, from the fluid's density
+    /// `rho` and the hydrostatic density `rho_h` (kg/m³).
+    fn diffused_density(rho: &[f64], rho_h: &[f64], i: usize) -> f64;
+}
+
+/// Summation density: the force pass adds no density rate.
+pub(crate) struct NoDensityRate;
+/// The continuity equation without diffusion.
+pub(crate) struct ContinuityOnly;
+/// The continuity equation with the diffusion of Molteni & Colagrossi (2009): ψ_ij
+/// differences ρ_j − ρ_i.
+pub(crate) struct MolteniColagrossiDiffusion;
+/// The continuity equation with the diffusion of Fourtakas et al. (2019): ψ_ij differences
+/// the dynamic densities ρ − ρ_H, the hydrostatic part taken out.
+pub(crate) struct FourtakasDiffusion;
+
+impl DensityRateTerm for NoDensityRate {
+    const CONTINUITY: bool = false;
+    const DIFFUSION: bool = false;
+    #[inline(always)]
+    fn diffused_density(_: &[f64], _: &[f64], _: usize) -> f64 {
+        0.0
+    }
+}
+
+impl DensityRateTerm for ContinuityOnly {
+    const CONTINUITY: bool = true;
+    const DIFFUSION: bool = false;
+    #[inline(always)]
+    fn diffused_density(_: &[f64], _: &[f64], _: usize) -> f64 {
+        0.0
+    }
+}
+
+impl DensityRateTerm for MolteniColagrossiDiffusion {
+    const CONTINUITY: bool = true;
+    const DIFFUSION: bool = true;
+    #[inline(always)]
+    fn diffused_density(rho: &[f64], _: &[f64], i: usize) -> f64 {
+        rho[i]
+    }
+}
+
+impl DensityRateTerm for FourtakasDiffusion {
+    const CONTINUITY: bool = true;
+    const DIFFUSION: bool = true;
+    #[inline(always)]
+    fn diffused_density(rho: &[f64], rho_h: &[f64], i: usize) -> f64 {
+        rho[i] - rho_h[i]
+    }
+}
+
+/// What a wall particle adds to the momentum of the coupled pass besides its pressure,
+/// chosen once per run.
+pub(crate) trait WallForceTerm: Sync {
+    /// Dynamic walls: the wall enters the artificial viscosity (at rest) and the paper's
+    /// viscous term as a fluid particle would (paper §2.5).
+    const AS_FLUID: bool;
+    /// No-slip Adami walls of a viscous liquid: the laminar viscous force against the
+    /// mirrored wall velocity.
+    const NO_SLIP_VISCOUS: bool;
+}
+
+/// Dynamic wall particles (paper §2.5).
+pub(crate) struct DynamicWallForce;
+/// Adami walls with free slip: pressure only.
+pub(crate) struct AdamiFreeSlipForce;
+/// Adami walls with no slip for a viscous liquid.
+pub(crate) struct AdamiNoSlipForce;
+
+impl WallForceTerm for DynamicWallForce {
+    const AS_FLUID: bool = true;
+    const NO_SLIP_VISCOUS: bool = false;
+}
+
+impl WallForceTerm for AdamiFreeSlipForce {
+    const AS_FLUID: bool = false;
+    const NO_SLIP_VISCOUS: bool = false;
+}
+
+impl WallForceTerm for AdamiNoSlipForce {
+    const AS_FLUID: bool = false;
+    const NO_SLIP_VISCOUS: bool = true;
+}
+
+/// What the pair terms of the coupled force pass read: the density rate `R`, the wall force
+/// `W` and the shifting sums (`SHIFT`) are types, so that the pair loop carries no switch of
+/// its own.
+pub(crate) struct ModernPairTerms<'a, const D: usize, R, W, const SHIFT: bool> {
     /// The paper sweep's constants and fluid and wall arrays (pressure and viscous terms).
     pub(crate) base: ForceSweep<'a, D>,
-    /// Walls in the artificial viscosity and the paper's viscous term: dynamic walls only
-    /// (wall at rest, as the paper). Adami walls take neither: free slip has no wall stress,
-    /// no-slip the physical viscous stress of the mirrored velocity (`no_slip_viscous`).
-    pub(crate) wall_av: bool,
-    pub(crate) wall_viscous: bool,
-    pub(crate) no_slip_viscous: bool,
-    pub(crate) continuity: bool,
-    /// 0: none, 1: Molteni–Colagrossi, 2: Fourtakas.
-    pub(crate) diffusion: u8,
-    /// ψ_ij·∇_i W_ij = 2 (ρ_j − ρ_i) x_ji·x_ij F/r² = −2 (ρ_j − ρ_i) F, F = (dW/dr)/r: the
-    /// factor −2 δ h c0 of (ρ_j − ρ_i) F.
+    /// −2 δ h c0 (m²/s): ψ_ij·∇_i W_ij = 2 (ρ_j − ρ_i) x_ji·x_ij F/r² = −2 (ρ_j − ρ_i) F,
+    /// F = (dW/dr)/r, so the diffusion term is this factor times (ρ_j − ρ_i) F.
     pub(crate) diff_coeff: f64,
-    pub(crate) shifting: bool,
     /// Hydrostatic density of Fourtakas' diffusion (kg/m³).
     pub(crate) rho_h: &'a [f64],
     /// Wall velocity seen by the fluid with no-slip Adami walls (m/s).
     pub(crate) wall_vel: &'a [Vector<D>],
+    _parts: std::marker::PhantomData<(R, W)>,
 }
 
 /// Fluid particle i of a row of modern pairs.
@@ -59,39 +144,30 @@ pub(crate) struct WallPairTerm<const D: usize> {
     pub(crate) kernel_sum: f64,
 }
 
-impl<'a, const D: usize> ModernPairTerms<'a, D> {
+impl<'a, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool>
+    ModernPairTerms<'a, D, R, W, SHIFT>
+{
     /// The terms over `fluid` (its acceleration and density rate are not read), `walls` and
-    /// the modern state's hydrostatic density and wall velocity.
+    /// the stage buffers' hydrostatic density and wall velocity.
     pub(crate) fn new(
         c: &PassConstants,
         fluid: &'a Fluid<D>,
         walls: &'a Walls<D>,
         st: &'a StageBuffers<D>,
     ) -> Self {
-        let k = &st.k;
-        let base = ForceSweep::new(c, fluid, walls);
         ModernPairTerms {
-            wall_av: base.av_on && !k.adami,
-            wall_viscous: base.viscous && !k.adami,
-            no_slip_viscous: base.viscous && k.adami && k.no_slip,
-            continuity: k.continuity,
-            diffusion: k.diffusion,
-            diff_coeff: -2.0 * k.diffusion_coeff,
-            shifting: k.shifting.is_some(),
+            diff_coeff: -2.0 * st.k.diffusion_coeff,
             rho_h: &st.hydro_density,
             wall_vel: &st.wall_velocity,
-            base,
+            base: ForceSweep::new(c, fluid, walls),
+            _parts: std::marker::PhantomData,
         }
     }
 
     /// The density of particle i the diffusion term differences.
     #[inline(always)]
     pub(crate) fn rho_dyn(&self, i: usize) -> f64 {
-        if self.diffusion == 2 {
-            self.base.rho[i] - self.rho_h[i]
-        } else {
-            self.base.rho[i]
-        }
+        R::diffused_density(self.base.rho, self.rho_h, i)
     }
 
     #[inline(always)]
@@ -125,22 +201,18 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
         let acc = self.base.fluid_term_with(&o.f, j, xij, (f, inv_s, inv_rho_mean));
         let grad_w = xij * f;
         let volume_j = m * self.base.inv_rho[j];
-        let vij = o.f.v - self.base.vel[j];
         let (mut drho_i, mut drho_j) = (0.0, 0.0);
-        if self.continuity {
+        if R::CONTINUITY {
+            let vij = o.f.v - self.base.vel[j];
             let d = m * vij.dot(&grad_w);
             (drho_i, drho_j) = (d, d);
-            if self.diffusion != 0 {
+            if R::DIFFUSION {
                 let psi = self.diff_coeff * (self.rho_dyn(j) - o.rho_dyn) * f;
                 drho_i += psi * volume_j;
                 drho_j -= psi * o.volume;
             }
         }
-        let w = if self.shifting {
-            c.kernel.value(r)
-        } else {
-            0.0
-        };
+        let w = if SHIFT { c.kernel.value(r) } else { 0.0 };
         FluidPairTerm {
             acc,
             drho_i,
@@ -165,23 +237,29 @@ impl<'a, const D: usize> ModernPairTerms<'a, D> {
     ) -> WallPairTerm<D> {
         let c = &self.base.c;
         let m = c.mass;
-        let (mut acc, grad_w, f, inv_s, inv_rho_iw) =
-            self.base
-                .wall_momentum(o, w, xiw, r2, self.wall_av, self.wall_viscous);
-        if self.no_slip_viscous {
+        let b = &self.base;
+        let (mut acc, grad_w, f, inv_s, inv_rho_iw) = b.wall_momentum(
+            o,
+            w,
+            xiw,
+            r2,
+            W::AS_FLUID && b.av_on,
+            W::AS_FLUID && b.viscous,
+        );
+        if W::NO_SLIP_VISCOUS {
             // No-slip Adami wall: the laminar viscous force of Morris et al. (1997),
             // m (μ_i + μ_w) (x_iw·∇_i W) v_iw / (ρ_i ρ_w (r² + 0.01 h²)), against the mirrored
             // wall velocity (Adami et al. 2012 Eq. 22; x_iw·∇_i W = r² F).
             let v_iw = o.v - self.wall_vel[w];
             acc += v_iw * (m * 2.0 * c.viscosity * inv_rho_iw * r2 * f * inv_s);
         }
-        let drho = if self.continuity {
+        let drho = if R::CONTINUITY {
             m * o.v.dot(&grad_w)
         } else {
             0.0
         };
-        let (grad_c, kernel_sum) = if self.shifting {
-            let volume_w = m * self.base.wall_inv_rho[w];
+        let (grad_c, kernel_sum) = if SHIFT {
+            let volume_w = m * b.wall_inv_rho[w];
             (grad_w * volume_w, volume_w * c.kernel.value(r2.sqrt()))
         } else {
             (Vector::<D>::zeros(), 0.0)
@@ -243,10 +321,10 @@ impl<const D: usize> OwnerSums<D> {
 
     /// i's share of a fluid pair.
     #[inline(always)]
-    pub(crate) fn add_fluid(&mut self, pair: &FluidPairTerm<D>, shifting: bool) {
+    pub(crate) fn add_fluid<const SHIFT: bool>(&mut self, pair: &FluidPairTerm<D>) {
         self.acc += pair.acc;
         self.drho += pair.drho_i;
-        if shifting {
+        if SHIFT {
             self.grad_c += pair.grad_w * pair.volume_j;
             self.ksum += pair.volume_j * pair.w;
         }
@@ -269,19 +347,20 @@ impl<const D: usize> OwnerSums<D> {
 /// sweep the momentum term and the shifting gradient are antisymmetric in i and j, the
 /// continuity term symmetric, and the diffusion term of j is that of i with i and j
 /// exchanged.
-pub(crate) struct Coupled<'a, const D: usize> {
-    terms: ModernPairTerms<'a, D>,
+pub(crate) struct Coupled<'a, const D: usize, R, W, const SHIFT: bool> {
+    terms: ModernPairTerms<'a, D, R, W, SHIFT>,
     acceleration: SweepSlots<'a, Vector<D>>,
     density_rate: SweepSlots<'a, f64>,
     shift_gradient: SweepSlots<'a, Vector<D>>,
     shift_kernel_sum: SweepSlots<'a, f64>,
-    shifting: bool,
     /// W(0), a particle's own share of its kernel sum.
     w0: f64,
     body_force: Vector<D>,
 }
 
-impl<'a, const D: usize> Coupled<'a, D> {
+impl<'a, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool>
+    Coupled<'a, D, R, W, SHIFT>
+{
     /// The pass over `fluid`, `walls` and the stage buffers `st`, writing the acceleration
     /// (m/s², body force included), dρ/dt (kg/(m³·s)) and, with shifting, ∇C (1/m) and the
     /// kernel sum into `out`. A half sweep adds to `out`, which must hold the body force and
@@ -300,14 +379,15 @@ impl<'a, const D: usize> Coupled<'a, D> {
             density_rate: SweepSlots::new(&mut out.density_rate),
             shift_gradient: SweepSlots::new(&mut out.shift_gradient),
             shift_kernel_sum: SweepSlots::new(&mut out.shift_kernel_sum),
-            shifting: st.k.shifting.is_some(),
             w0: c.kernel.value(0.0),
             body_force,
         }
     }
 }
 
-impl<'a, const D: usize> PairInteraction<'a, D> for Coupled<'a, D> {
+impl<'a, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool>
+    PairInteraction<'a, D> for Coupled<'a, D, R, W, SHIFT>
+{
     type Owner = ModernOwner<D>;
     type Sums = OwnerSums<D>;
 
@@ -325,7 +405,7 @@ impl<'a, const D: usize> PairInteraction<'a, D> for Coupled<'a, D> {
 
     #[inline(always)]
     fn start(&self, o: &ModernOwner<D>, itself: bool) -> OwnerSums<D> {
-        OwnerSums::new(if itself && self.shifting {
+        OwnerSums::new(if itself && SHIFT {
             o.volume * self.w0
         } else {
             0.0
@@ -334,7 +414,7 @@ impl<'a, const D: usize> PairInteraction<'a, D> for Coupled<'a, D> {
 
     #[inline(always)]
     fn itself(&self, o: &ModernOwner<D>, sums: &mut OwnerSums<D>) {
-        if self.shifting {
+        if SHIFT {
             sums.ksum += o.volume * self.w0;
         }
     }
@@ -351,12 +431,12 @@ impl<'a, const D: usize> PairInteraction<'a, D> for Coupled<'a, D> {
         block: &Block,
     ) {
         let pair = self.terms.fluid_pair(o, j, xij, r, factors);
-        sums.add_fluid(&pair, self.shifting);
+        sums.add_fluid::<SHIFT>(&pair);
         if HALF {
             let slot = block.slot(j);
             self.acceleration.sub(&slot, pair.acc);
             self.density_rate.add(&slot, pair.drho_j);
-            if self.shifting {
+            if SHIFT {
                 self.shift_gradient.sub(&slot, pair.grad_w * o.volume);
                 self.shift_kernel_sum.add(&slot, o.volume * pair.w);
             }
@@ -381,14 +461,14 @@ impl<'a, const D: usize> PairInteraction<'a, D> for Coupled<'a, D> {
         if HALF {
             self.acceleration.add(&slot, sums.acc);
             self.density_rate.add(&slot, sums.drho);
-            if self.shifting {
+            if SHIFT {
                 self.shift_gradient.add(&slot, sums.grad_c);
                 self.shift_kernel_sum.add(&slot, sums.ksum);
             }
         } else {
             self.acceleration.set(&slot, sums.acc + self.body_force);
             self.density_rate.set(&slot, sums.drho);
-            if self.shifting {
+            if SHIFT {
                 self.shift_gradient.set(&slot, sums.grad_c);
                 self.shift_kernel_sum.set(&slot, sums.ksum);
             }
