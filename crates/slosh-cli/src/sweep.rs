@@ -946,9 +946,10 @@ pub(crate) fn run_planned(
                     );
                 } else if !quiet {
                     eprintln!(
-                        "{what}: [{n}/{}] {} completed in {:.1} s",
+                        "{what}: [{n}/{}] {} {} in {:.1} s",
                         to_run.len(),
                         o.folder,
+                        o.status,
                         o.wall_time_s
                     );
                 }
