@@ -347,7 +347,7 @@ struct RunFiles {
     earlier_rows: Vec<Vec<f64>>,
     /// A checkpoint that could not be written (the run goes on; the summary says so).
     checkpoint_error: Option<String>,
-    /// Simulated time after the last step (s), for [`TestStop`].
+    /// Simulated time after the last step (s), for [`RunStop`].
     time_reached: std::rc::Rc<std::cell::Cell<f64>>,
 }
 
@@ -432,30 +432,30 @@ pub const TEST_STOP_AT_ENV: &str = "SLOSH_TEST_STOP_AT";
 
 /// The stop request of a run: a SIGINT or SIGTERM received, or the time of
 /// [`TEST_STOP_AT_ENV`] reached.
-struct TestStop {
+struct RunStop {
     stop_at_s: Option<f64>,
     time_reached: std::rc::Rc<std::cell::Cell<f64>>,
 }
 
-impl TestStop {
+impl RunStop {
     fn from_env(time_reached: std::rc::Rc<std::cell::Cell<f64>>) -> Result<Self> {
         let stop_at_s = match std::env::var(TEST_STOP_AT_ENV) {
             Ok(text) => match text.trim().parse::<f64>() {
                 Ok(t) if t.is_finite() => Some(t),
-                _ => anyhow::bail!(
-                    "{TEST_STOP_AT_ENV}={text}: expected a simulated time in seconds"
-                ),
+                _ => {
+                    anyhow::bail!("{TEST_STOP_AT_ENV}={text}: expected a simulated time in seconds")
+                }
             },
             Err(_) => None,
         };
-        Ok(TestStop {
+        Ok(RunStop {
             stop_at_s,
             time_reached,
         })
     }
 }
 
-impl slosh_run::StopRequest for TestStop {
+impl slosh_run::StopRequest for RunStop {
     fn stop_requested(&mut self) -> Option<i32> {
         crate::interrupt::received().or_else(|| {
             self.stop_at_s
@@ -619,7 +619,7 @@ fn run_built<const D: usize>(
         checkpoint_error: None,
         time_reached: std::rc::Rc::new(std::cell::Cell::new(f64::NEG_INFINITY)),
     };
-    let mut stop = TestStop::from_env(std::rc::Rc::clone(&files.time_reached))?;
+    let mut stop = RunStop::from_env(std::rc::Rc::clone(&files.time_reached))?;
     let mut result: RunResult<D> = slosh_run::run_case_from(
         &mut sim,
         &plan,

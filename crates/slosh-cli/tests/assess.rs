@@ -368,8 +368,12 @@ fn the_freeboard_is_the_simulated_tanks_and_tasks_take_slurm_cpus() {
         let o = c.output().unwrap();
         assert!(o.status.success(), "{}", text(&o));
         let name = if task == "0" { "gentle" } else { "strong" };
-        let summary = std::fs::read_to_string(out.join("runs").join(name).join("summary.ron")).unwrap();
-        assert!(summary.contains(expected), "task {task}: {expected} not in {summary}");
+        let summary =
+            std::fs::read_to_string(out.join("runs").join(name).join("summary.ron")).unwrap();
+        assert!(
+            summary.contains(expected),
+            "task {task}: {expected} not in {summary}"
+        );
     }
     let o = slosh(&["assess", "--collect", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", text(&o));
@@ -380,7 +384,10 @@ fn the_freeboard_is_the_simulated_tanks_and_tasks_take_slurm_cpus() {
         let free: f64 = r[col("freeboard_m")].parse().unwrap();
         let specified: f64 = r[col("freeboard_specified_m")].parse().unwrap();
         assert!((free - 0.05).abs() < 1e-9, "simulated freeboard {free} m");
-        assert!((specified - 0.06).abs() < 1e-12, "specified freeboard {specified} m");
+        assert!(
+            (specified - 0.06).abs() < 1e-12,
+            "specified freeboard {specified} m"
+        );
         let eta: f64 = r[col("max_eta_m")].parse().unwrap();
         assert_eq!(r[col("freeboard_exceeded")], (eta > free).to_string());
     }

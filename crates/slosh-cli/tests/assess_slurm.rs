@@ -539,7 +539,13 @@ fn requeued_task_resumes_from_its_checkpoint(dir: &Path, cluster: &Cluster, case
         ]
         .map(String::from)
         .to_vec();
-        for set in ["dx=0.1", "dt=0.0005", "settle=0.5", "duration=8.5", "frame_interval=0"] {
+        for set in [
+            "dx=0.1",
+            "dt=0.0005",
+            "settle=0.5",
+            "duration=8.5",
+            "frame_interval=0",
+        ] {
             args.extend(["--set".to_string(), set.to_string()]);
         }
         args.extend(extra.iter().map(|s| s.to_string()));
@@ -554,7 +560,10 @@ fn requeued_task_resumes_from_its_checkpoint(dir: &Path, cluster: &Cluster, case
     assert!(o.status.success(), "{}\n{}", text(&o), cluster.logs());
     let job = text(&o)
         .lines()
-        .find_map(|l| l.strip_prefix("submitted: job ").map(|s| s.trim().to_string()))
+        .find_map(|l| {
+            l.strip_prefix("submitted: job ")
+                .map(|s| s.trim().to_string())
+        })
         .unwrap_or_else(|| panic!("no job id in {}", text(&o)));
     let run = on_slurm.join("runs/ec_3");
     let lines = |f: &Path| std::fs::read_to_string(f).map_or(0, |t| t.lines().count());
@@ -593,7 +602,10 @@ fn requeued_task_resumes_from_its_checkpoint(dir: &Path, cluster: &Cluster, case
         .unwrap();
     assert!(o.status.success(), "scontrol update: {}", text(&o));
     let stopped_at = lines(&run.join("series.csv"));
-    assert!(stopped_at < 800, "stopped before its end: {stopped_at} lines");
+    assert!(
+        stopped_at < 800,
+        "stopped before its end: {stopped_at} lines"
+    );
 
     // The local run of the same motion, while the task waits and runs again.
     let local = dir.join("requeue-local");
@@ -604,18 +616,38 @@ fn requeued_task_resumes_from_its_checkpoint(dir: &Path, cluster: &Cluster, case
         cluster_command("squeue", &cluster.conf)
             .args(["-h", "-j", &job])
             .output()
-            .is_ok_and(|q| q.status.success() && String::from_utf8_lossy(&q.stdout).trim().is_empty())
+            .is_ok_and(|q| {
+                q.status.success() && String::from_utf8_lossy(&q.stdout).trim().is_empty()
+            })
     });
     let summary = status();
     assert!(summary.contains("status: \"completed\""), "{summary}");
-    assert!(summary.contains("from_step:"), "continued from its checkpoint: {summary}");
-    assert!(summary.contains("threads: 1,"), "$SLURM_CPUS_PER_TASK threads: {summary}");
+    assert!(
+        summary.contains("from_step:"),
+        "continued from its checkpoint: {summary}"
+    );
+    assert!(
+        summary.contains("threads: 1,"),
+        "$SLURM_CPUS_PER_TASK threads: {summary}"
+    );
     for f in ["series.csv", "roof_pressure.csv"] {
-        let (a, b) = (std::fs::read(run.join(f)).unwrap(), std::fs::read(local.join("runs/ec_3").join(f)).unwrap());
-        assert!(a == b, "{f} of the requeued task differs from the local run's");
+        let (a, b) = (
+            std::fs::read(run.join(f)).unwrap(),
+            std::fs::read(local.join("runs/ec_3").join(f)).unwrap(),
+        );
+        assert!(
+            a == b,
+            "{f} of the requeued task differs from the local run's"
+        );
     }
     let o = Command::new(exe())
-        .args(["assess", "--collect", "--quiet", "--out", on_slurm.to_str().unwrap()])
+        .args([
+            "assess",
+            "--collect",
+            "--quiet",
+            "--out",
+            on_slurm.to_str().unwrap(),
+        ])
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", text(&o));

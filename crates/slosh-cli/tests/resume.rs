@@ -72,9 +72,14 @@ fn comparable_summary(dir: &Path) -> String {
             skipping = !line.ends_with("],");
             continue;
         }
-        if ["wall_time_s", "particle_steps_per_s", "checkpoints_written", "phase_"]
-            .iter()
-            .any(|k| line.contains(k))
+        if [
+            "wall_time_s",
+            "particle_steps_per_s",
+            "checkpoints_written",
+            "phase_",
+        ]
+        .iter()
+        .any(|k| line.contains(k))
         {
             continue;
         }
@@ -90,7 +95,12 @@ fn same_file(a: &Path, b: &Path) {
 
 /// Runs `args` straight into one folder, and into another interrupted once `rows` series
 /// rows exist, then resumed; compares the files.
-fn interrupted_run_resumes_to_the_same_files(test: &str, args: &[&str], rows: usize, files: &[&str]) {
+fn interrupted_run_resumes_to_the_same_files(
+    test: &str,
+    args: &[&str],
+    rows: usize,
+    files: &[&str],
+) {
     let dir = temp(test);
     let (straight, resumed) = (dir.join("straight"), dir.join("resumed"));
     run_to_end(args, &straight);
@@ -111,18 +121,25 @@ fn interrupted_run_resumes_to_the_same_files(test: &str, args: &[&str], rows: us
     assert!(summary.contains("status: \"interrupted\""), "{summary}");
     assert!(resumed.join("checkpoint/state.bin").exists());
 
-    let o = slosh(&["resume", resumed.to_str().unwrap(), "--quiet"]).output().unwrap();
+    let o = slosh(&["resume", resumed.to_str().unwrap(), "--quiet"])
+        .output()
+        .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     for f in files {
         same_file(&straight.join(f), &resumed.join(f));
     }
     assert_eq!(comparable_summary(&straight), comparable_summary(&resumed));
     let summary = std::fs::read_to_string(resumed.join("summary.ron")).unwrap();
-    assert!(summary.contains("from_step:"), "the resumption is recorded: {summary}");
+    assert!(
+        summary.contains("from_step:"),
+        "the resumption is recorded: {summary}"
+    );
     assert!(summary.contains("status: \"completed\""), "{summary}");
 
     // A complete run has nothing to resume.
-    let o = slosh(&["resume", resumed.to_str().unwrap(), "--quiet"]).output().unwrap();
+    let o = slosh(&["resume", resumed.to_str().unwrap(), "--quiet"])
+        .output()
+        .unwrap();
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("nothing to resume"));
 }
@@ -188,7 +205,9 @@ fn resume_refuses_what_it_cannot_continue() {
     // A folder without a checkpoint.
     let empty = dir.join("empty");
     std::fs::create_dir_all(&empty).unwrap();
-    let o = slosh(&["resume", empty.to_str().unwrap()]).output().unwrap();
+    let o = slosh(&["resume", empty.to_str().unwrap()])
+        .output()
+        .unwrap();
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("no checkpoint"));
 
@@ -201,10 +220,16 @@ fn resume_refuses_what_it_cannot_continue() {
                 fn ground_accel(t) { amplitude * 25.0 * sin(5.0 * t) }\n";
     std::fs::write(&script, text).unwrap();
     let out = dir.join("out");
-    let child = slosh(&["run", script.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()])
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child = slosh(&[
+        "run",
+        script.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ])
+    .stderr(Stdio::piped())
+    .spawn()
+    .unwrap();
     wait_for_lines(&out.join("series.csv"), 20);
     interrupt(&child);
     let o = child.wait_with_output().unwrap();
@@ -226,12 +251,18 @@ fn resume_refuses_what_it_cannot_continue() {
     let o = slosh(&["resume", out.to_str().unwrap()]).output().unwrap();
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("corrupted") && err.contains("state.bin"), "{err}");
+    assert!(
+        err.contains("corrupted") && err.contains("state.bin"),
+        "{err}"
+    );
     std::fs::write(&state, &good[..good.len() / 2]).unwrap();
     let o = slosh(&["resume", out.to_str().unwrap()]).output().unwrap();
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("cut short") && err.contains("state.bin"), "{err}");
+    assert!(
+        err.contains("cut short") && err.contains("state.bin"),
+        "{err}"
+    );
     std::fs::write(&state, &good[..10]).unwrap();
     let o = slosh(&["resume", out.to_str().unwrap()]).output().unwrap();
     assert!(!o.status.success());
@@ -263,7 +294,11 @@ fn an_interrupted_sweep_case_continues_from_its_checkpoint() {
         "--out",
         out.to_str().unwrap(),
     ];
-    let child = slosh(&args).stderr(Stdio::piped()).stdout(Stdio::piped()).spawn().unwrap();
+    let child = slosh(&args)
+        .stderr(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
     // The case folder appears once the sweep starts the case.
     let start = Instant::now();
     let case_dir = loop {
@@ -282,16 +317,30 @@ fn an_interrupted_sweep_case_continues_from_its_checkpoint() {
     wait_for_lines(&case_dir.join("series.csv"), 100);
     interrupt(&child);
     let o = child.wait_with_output().unwrap();
-    assert_eq!(o.status.code(), Some(130), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        o.status.code(),
+        Some(130),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     assert!(case_dir.join("checkpoint/state.bin").exists());
 
     let o = slosh(&args).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let summary = std::fs::read_to_string(case_dir.join("summary.ron")).unwrap();
     assert!(summary.contains("status: \"completed\""), "{summary}");
-    assert!(summary.contains("from_step:"), "continued from its checkpoint: {summary}");
-    let rows = std::fs::read_to_string(case_dir.join("series.csv")).unwrap().lines().count();
-    assert!(rows > 400, "a header and the rows of 4 s at 0.01 s: {rows} lines");
+    assert!(
+        summary.contains("from_step:"),
+        "continued from its checkpoint: {summary}"
+    );
+    let rows = std::fs::read_to_string(case_dir.join("series.csv"))
+        .unwrap()
+        .lines()
+        .count();
+    assert!(
+        rows > 400,
+        "a header and the rows of 4 s at 0.01 s: {rows} lines"
+    );
 }
 
 /// The roof impacts of a finished run's summary.
@@ -308,7 +357,10 @@ fn impacts(dir: &Path) -> Vec<(f64, f64, f64)> {
     }
     let text = std::fs::read_to_string(dir.join("summary.ron")).unwrap();
     let s: Summary = ron::from_str(&text).unwrap();
-    s.impacts.iter().map(|i| (i.t_start, i.t_peak, i.p_max_sph)).collect()
+    s.impacts
+        .iter()
+        .map(|i| (i.t_start, i.t_peak, i.p_max_sph))
+        .collect()
 }
 
 /// The files of `dir/frames`, sorted.
@@ -351,7 +403,10 @@ fn stops_in_settling_mid_run_and_in_a_roof_impact_resume_bit_for_bit() {
         .expect("the liquid reaches the roof of the 0.6 m tank");
     let in_impact = 0.5 * (t_start + t_peak);
     let points = [("settling", 0.25), ("middle", 1.2), ("impact", in_impact)];
-    assert!(1.2 < t_start, "the impact comes after the mid-run stop: {t_start} s");
+    assert!(
+        1.2 < t_start,
+        "the impact comes after the mid-run stop: {t_start} s"
+    );
 
     let mut children = Vec::new();
     for (name, t) in points {
@@ -371,23 +426,37 @@ fn stops_in_settling_mid_run_and_in_a_roof_impact_resume_bit_for_bit() {
         .map(String::from)
         .collect::<Vec<_>>();
     names.extend(frame_files(&straight));
-    assert!(names.len() > 8, "frames at 0, 0.5, ..., 2 s, the last and the index: {names:?}");
+    assert!(
+        names.len() > 8,
+        "frames at 0, 0.5, ..., 2 s, the last and the index: {names:?}"
+    );
     for (name, t, out, child) in children {
         let o = child.wait_with_output().unwrap();
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(143), "{name}: {err}");
         let summary = std::fs::read_to_string(out.join("summary.ron")).unwrap();
-        assert!(summary.contains("status: \"interrupted\""), "{name}: {summary}");
+        assert!(
+            summary.contains("status: \"interrupted\""),
+            "{name}: {summary}"
+        );
 
         let o = slosh(&["resume", out.to_str().unwrap(), "--quiet", "--threads", "1"])
             .output()
             .unwrap();
-        assert!(o.status.success(), "{name}: {}", String::from_utf8_lossy(&o.stderr));
+        assert!(
+            o.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
         for f in &names {
             same_file(&straight.join(f), &out.join(f));
         }
         assert_eq!(frame_files(&straight), frame_files(&out), "{name}");
-        assert_eq!(comparable_summary(&straight), comparable_summary(&out), "{name}");
+        assert_eq!(
+            comparable_summary(&straight),
+            comparable_summary(&out),
+            "{name}"
+        );
         // The stop came one step (dt < 1 ms here) after the chosen time.
         let summary = std::fs::read_to_string(out.join("summary.ron")).unwrap();
         let from = summary
@@ -396,21 +465,37 @@ fn stops_in_settling_mid_run_and_in_a_roof_impact_resume_bit_for_bit() {
             .and_then(|s| s.split(|c: char| c == ',' || c.is_whitespace()).next())
             .and_then(|s| s.parse::<f64>().ok())
             .unwrap_or_else(|| panic!("{name}: no resume record in {summary}"));
-        assert!(from >= t && from < t + 0.01, "{name}: stopped at {from} s for {t} s");
+        assert!(
+            from >= t && from < t + 0.01,
+            "{name}: stopped at {from} s for {t} s"
+        );
     }
 }
 
 /// The rows of a CSV table without the columns that depend on the wall clock.
 fn table_without_timing(path: &Path) -> Vec<Vec<String>> {
-    const TIMING: [&str; 3] = ["wall_time_s", "particle_steps_per_s", "fluid_particle_steps_per_s"];
+    const TIMING: [&str; 3] = [
+        "wall_time_s",
+        "particle_steps_per_s",
+        "fluid_particle_steps_per_s",
+    ];
     let text = std::fs::read_to_string(path).unwrap();
     let rows: Vec<Vec<String>> = text
         .lines()
         .map(|l| l.split(',').map(str::to_string).collect())
         .collect();
-    let keep: Vec<bool> = rows[0].iter().map(|c| !TIMING.contains(&c.as_str())).collect();
+    let keep: Vec<bool> = rows[0]
+        .iter()
+        .map(|c| !TIMING.contains(&c.as_str()))
+        .collect();
     rows.into_iter()
-        .map(|r| r.into_iter().zip(&keep).filter(|(_, k)| **k).map(|(c, _)| c).collect())
+        .map(|r| {
+            r.into_iter()
+                .zip(&keep)
+                .filter(|(_, k)| **k)
+                .map(|(c, _)| c)
+                .collect()
+        })
         .collect()
 }
 
@@ -461,7 +546,10 @@ fn a_sigtermed_sweep_continues_to_the_files_of_an_uninterrupted_one() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(143), "{err}");
     let summary = std::fs::read_to_string(first.join("summary.ron")).unwrap();
-    assert!(summary.contains("status: \"interrupted\""), "the case got the signal: {summary}");
+    assert!(
+        summary.contains("status: \"interrupted\""),
+        "the case got the signal: {summary}"
+    );
     assert!(summary.contains("SIGTERM"), "{summary}");
     assert!(first.join("checkpoint/state.bin").exists());
     assert!(!resumed.join("amplitude-0.006/series.csv").exists());
@@ -469,9 +557,15 @@ fn a_sigtermed_sweep_continues_to_the_files_of_an_uninterrupted_one() {
     let o = sweep(&resumed).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let summary = std::fs::read_to_string(first.join("summary.ron")).unwrap();
-    assert!(summary.contains("from_step:"), "continued from its checkpoint: {summary}");
+    assert!(
+        summary.contains("from_step:"),
+        "continued from its checkpoint: {summary}"
+    );
     for case in ["amplitude-0.004", "amplitude-0.006"] {
-        same_file(&straight.join(case).join("series.csv"), &resumed.join(case).join("series.csv"));
+        same_file(
+            &straight.join(case).join("series.csv"),
+            &resumed.join(case).join("series.csv"),
+        );
         assert_eq!(
             comparable_summary(&straight.join(case)),
             comparable_summary(&resumed.join(case)),
@@ -495,7 +589,9 @@ fn a_sigtermed_sweep_continues_to_the_files_of_an_uninterrupted_one() {
 fn checkpoint_of_500k_particles_is_written_and_read_in_under_5_s() {
     use slosh_core::{SimState, Simulation, SphParams};
     use slosh_geometry::{CylinderTank, Roof};
-    let setup = CylinderTank::new(0.5, 0.6, 0.5, Roof::Flat).build(0.01).unwrap();
+    let setup = CylinderTank::new(0.5, 0.6, 0.5, Roof::Flat)
+        .build(0.01)
+        .unwrap();
     let params = SphParams::paper().with_paper_stiffness();
     let mut sim = Simulation::<3>::new(setup, params).unwrap();
     slosh_run::advance(
@@ -512,7 +608,10 @@ fn checkpoint_of_500k_particles_is_written_and_read_in_under_5_s() {
     // CPU time of this thread (s): what the write and the read cost without the other work of
     // a shared machine; the wall time is reported beside it.
     let cpu_s = || {
-        let mut t = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+        let mut t = libc::timespec {
+            tv_sec: 0,
+            tv_nsec: 0,
+        };
         // SAFETY: clock_gettime(2) writes the timespec it is given.
         unsafe {
             libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t);
@@ -533,7 +632,9 @@ fn checkpoint_of_500k_particles_is_written_and_read_in_under_5_s() {
          decoding); load average {}",
         sim.fluid().position.len(),
         bytes as f64 / particles as f64,
-        std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim()
+        std::fs::read_to_string("/proc/loadavg")
+            .unwrap_or_default()
+            .trim()
     );
     // The same write into memory (/dev/shm, when there is one): the disk's share of the time.
     let shm = Path::new("/dev/shm");

@@ -509,7 +509,12 @@ fn write_csv(
                 );
                 row.push(r.lost_particles.to_string());
                 row.push(number(r.wall_time_s));
-                row.push(r.freeboard().and(freeboard_of(&r.tank_requested)).map(number).unwrap_or_default());
+                row.push(
+                    r.freeboard()
+                        .and(freeboard_of(&r.tank_requested))
+                        .map(number)
+                        .unwrap_or_default(),
+                );
             }
             RunState::Failed(e) | RunState::Missing(e) => {
                 let word = if matches!(m.state, RunState::Failed(_)) {
