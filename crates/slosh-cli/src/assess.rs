@@ -239,6 +239,7 @@ pub fn run_local(
         &plans,
         &out_dir.join("runs"),
         jobs,
+        None,
         quiet,
         &manifest.allow_read,
         "assess",
@@ -260,9 +261,17 @@ pub fn run_local(
     Ok(collected)
 }
 
-/// Runs motion `index` of the assessment in `out_dir` (one Slurm array task) with all the
-/// CPUs this process may use; a run completed before is not run again.
-pub fn run_task(exe: &Path, out_dir: &Path, index: usize) -> Result<CaseStatus> {
+/// Runs motion `index` of the assessment in `out_dir` (one Slurm array task) with `threads`
+/// threads (`None`: [`crate::slurm::task_threads`]'s choice, `$SLURM_CPUS_PER_TASK` in an
+/// array task); a run completed before is not run again, one interrupted (a time limit, a
+/// requeue) continues from its checkpoint.
+pub fn run_task(
+    exe: &Path,
+    out_dir: &Path,
+    index: usize,
+    threads: Option<usize>,
+) -> Result<CaseStatus> {
+    let threads = crate::slurm::task_threads(threads)?;
     let manifest = Manifest::read(out_dir)?;
     let n = manifest.motions.len();
     if index >= n {
@@ -281,6 +290,7 @@ pub fn run_task(exe: &Path, out_dir: &Path, index: usize) -> Result<CaseStatus> 
         plan,
         &out_dir.join("runs"),
         1,
+        Some(threads),
         false,
         &manifest.allow_read,
         "assess",

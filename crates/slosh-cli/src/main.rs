@@ -164,6 +164,10 @@ struct SweepArgs {
     /// Run case I of the sweep only (default: $SLURM_ARRAY_TASK_ID), as an array task does.
     #[arg(long, value_name = "I", num_args = 0..=1, conflicts_with_all = ["slurm", "collect"])]
     task: Option<Option<usize>>,
+    /// Threads of the task's run (with --task; default: $SLURM_CPUS_PER_TASK when set, else
+    /// all cores).
+    #[arg(long, value_name = "N", requires = "task")]
+    threads: Option<usize>,
     /// Write sweep.csv from the cases finished so far (after a --slurm job).
     #[arg(long, conflicts_with = "slurm")]
     collect: bool,
@@ -456,7 +460,10 @@ fn cmd_sweep(args: SweepArgs) -> Result<()> {
             options: args.slurm.options(),
             submit: args.slurm.submit,
         },
-        (_, Some(index), _) => SweepMode::Task(index),
+        (_, Some(index), _) => SweepMode::Task {
+            index,
+            threads: args.threads,
+        },
         (_, _, true) => SweepMode::Collect,
         _ => SweepMode::Run,
     };
@@ -472,7 +479,7 @@ fn cmd_sweep(args: SweepArgs) -> Result<()> {
     )?;
     match mode {
         SweepMode::Slurm { .. } => return Ok(()),
-        SweepMode::Task(_) => {
+        SweepMode::Task { .. } => {
             return match outcome.cases.first() {
                 Some(c) if c.status == slosh_cli::sweep::CaseStatus::Failed => bail!(
                     "case {} failed: {}",

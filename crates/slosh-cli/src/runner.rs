@@ -363,6 +363,8 @@ struct RunFiles {
     earlier_rows: Vec<Vec<f64>>,
     /// A checkpoint that could not be written (the run goes on; the summary says so).
     checkpoint_error: Option<String>,
+    /// Simulated time after the last step (s), for [`RunStop`].
+    time_reached: std::rc::Rc<std::cell::Cell<f64>>,
 }
 
 impl<const D: usize> Observer<D> for RunFiles {
@@ -415,6 +417,7 @@ impl<const D: usize> Observer<D> for RunFiles {
     }
 
     fn progress(&mut self, time: f64, steps: u64) {
+        self.time_reached.set(time);
         if let Some(progress) = self.progress.as_mut() {
             progress.update(time, steps, self.started);
         }
@@ -433,6 +436,53 @@ impl<const D: usize> Observer<D> for RunFiles {
         }
         rewrite_series(&self.out.join("series.csv"), columns, series)?;
         Ok(())
+    }
+}
+
+/// Environment variable of a testing aid: `SLOSH_TEST_STOP_AT=T` stops the run as a SIGTERM
+/// would (checkpoint, `status: "interrupted"`, exit code 143) after the first step that ends
+/// at or past the simulated time T (s). It makes an interruption land on a chosen step, so
+/// that tests can check a resumed run against an uninterrupted one at set points; it applies
+/// to the process it is set for (unset it before `slosh resume`).
+pub const TEST_STOP_AT_ENV: &str = "SLOSH_TEST_STOP_AT";
+
+/// The stop request of a run: the caller's (a SIGINT or SIGTERM received, Ctrl-C in Python),
+/// or the time of [`TEST_STOP_AT_ENV`] reached.
+struct RunStop<'s> {
+    caller: &'s mut dyn StopRequest,
+    stop_at_s: Option<f64>,
+    time_reached: std::rc::Rc<std::cell::Cell<f64>>,
+}
+
+impl<'s> RunStop<'s> {
+    fn from_env(
+        caller: &'s mut dyn StopRequest,
+        time_reached: std::rc::Rc<std::cell::Cell<f64>>,
+    ) -> Result<Self> {
+        let stop_at_s = match std::env::var(TEST_STOP_AT_ENV) {
+            Ok(text) => match text.trim().parse::<f64>() {
+                Ok(t) if t.is_finite() => Some(t),
+                _ => {
+                    anyhow::bail!("{TEST_STOP_AT_ENV}={text}: expected a simulated time in seconds")
+                }
+            },
+            Err(_) => None,
+        };
+        Ok(RunStop {
+            caller,
+            stop_at_s,
+            time_reached,
+        })
+    }
+}
+
+impl slosh_run::StopRequest for RunStop<'_> {
+    fn stop_requested(&mut self) -> Option<i32> {
+        self.caller.stop_requested().or_else(|| {
+            self.stop_at_s
+                .filter(|&t| self.time_reached.get() >= t)
+                .map(|_| libc::SIGTERM)
+        })
     }
 }
 
@@ -589,13 +639,15 @@ fn run_built<const D: usize>(
         checkpoints,
         earlier_rows,
         checkpoint_error: None,
+        time_reached: std::rc::Rc::new(std::cell::Cell::new(f64::NEG_INFINITY)),
     };
+    let mut stop = RunStop::from_env(stop, std::rc::Rc::clone(&files.time_reached))?;
     let mut result: RunResult<D> = slosh_run::run_case_from(
         &mut sim,
         &plan,
         &mut case.excitation,
         &mut files,
-        stop,
+        &mut stop,
         resume_state,
     )
     .map_err(|e| anyhow::anyhow!(e))?;
@@ -745,9 +797,12 @@ fn run_built<const D: usize>(
     }
     if failure.is_none() {
         let max_eta = summary.max_eta_left.max(summary.max_eta_right);
+        // The tank as simulated (fitted to the lattice): its size and freeboard.
+        let simulated = summary.tank.clone();
         match crate::spectrum::write_case_input_spectrum(
             out,
             case,
+            &simulated,
             summary.theory.period_1,
             max_eta,
         ) {

@@ -3,7 +3,10 @@
 //! Each array task runs one `slosh` command with the task's index (`$SLURM_ARRAY_TASK_ID`);
 //! nothing is needed on the cluster but the `slosh` binary and a file system shared by the
 //! nodes. The script asks Slurm to requeue a task whose node fails (`--requeue`); a requeued
-//! task runs its case again unless its run folder already holds the completed result.
+//! task continues its case from the checkpoint the case wrote when it was stopped (a time
+//! limit's or a preemption's SIGTERM), runs it again when there is none, and skips it when its
+//! run folder already holds the completed result. A task's run takes `$SLURM_CPUS_PER_TASK`
+//! threads (`--threads` overrides).
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
@@ -248,6 +251,24 @@ pub fn task_index(explicit: Option<usize>) -> Result<usize> {
     text.trim()
         .parse()
         .map_err(|_| anyhow::anyhow!("$SLURM_ARRAY_TASK_ID is `{text}`, not a task index"))
+}
+
+/// Threads of an array task's run: `explicit` (`--threads`), else `$SLURM_CPUS_PER_TASK`
+/// (the CPUs Slurm gave the task), else every core this process may use.
+pub fn task_threads(explicit: Option<usize>) -> Result<usize> {
+    if let Some(n) = explicit {
+        if n == 0 {
+            bail!("--threads must be at least 1");
+        }
+        return Ok(n);
+    }
+    match std::env::var("SLURM_CPUS_PER_TASK") {
+        Ok(text) => match text.trim().parse::<usize>() {
+            Ok(n) if n > 0 => Ok(n),
+            _ => bail!("$SLURM_CPUS_PER_TASK is `{text}`, not a number of CPUs ≥ 1"),
+        },
+        Err(_) => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
+    }
 }
 
 #[cfg(test)]

@@ -73,13 +73,16 @@ pub struct SpectrumSummary {
 
 /// The input spectrum of a case after its run: samples the script's `ground_accel` (x
 /// component) every [`MOTION_SAMPLE_INTERVAL_S`] from the end of settling to the end of the
-/// run and calls [`write_input_spectrum`] with the tank's size. `convective_period_s` is the
-/// tank's first sloshing period (e.g. the summary's `theory.period_1`), `sph_max_eta` the SPH
-/// maximum elevation at the walls. Returns `None` (and writes nothing) when the x excitation
-/// is zero throughout or shorter than two samples.
+/// run and calls [`write_input_spectrum`] with the size of `tank`, the tank as simulated
+/// (fitted to the particle lattice, with the fill depth the lattice holds: the summary's
+/// `tank`), whose freeboard is also the one reported. `convective_period_s` is the tank's first
+/// sloshing period (e.g. the summary's `theory.period_1`), `sph_max_eta` the SPH maximum
+/// elevation at the walls. Returns `None` (and writes nothing) when the x excitation is zero
+/// throughout or shorter than two samples.
 pub fn write_case_input_spectrum(
     out: &Path,
     case: &mut Case,
+    tank: &TankSpec,
     convective_period_s: f64,
     sph_max_eta: f64,
 ) -> Result<Option<SpectrumSummary>> {
@@ -101,9 +104,9 @@ pub fn write_case_input_spectrum(
     if accel_x.iter().all(|a| *a == 0.0) {
         return Ok(None);
     }
-    let (size, is_cylinder) = match &case.tank {
+    let (size, is_cylinder) = match tank {
         TankSpec::Rect { width, .. } => (*width, false),
-        TankSpec::Section { .. } | TankSpec::Sphere { .. } => (case.tank.horizontal_size(), false),
+        TankSpec::Section { .. } | TankSpec::Sphere { .. } => (tank.horizontal_size(), false),
         TankSpec::Box { length, .. } => (*length, false),
         TankSpec::Cylinder { radius, .. } => (2.0 * radius, true),
     };
@@ -116,7 +119,7 @@ pub fn write_case_input_spectrum(
         is_cylinder,
         sph_max_eta,
     )?;
-    let freeboard = match &case.tank {
+    let freeboard = match tank {
         TankSpec::Rect {
             height,
             depth,
@@ -276,6 +279,11 @@ pub fn write_input_spectrum(
                 code: "API 650 Annex E (E.7.2)".into(),
                 formula: "0.42 D A_f, A_f = S_a(T_c, 0.5 %)/g".into(),
                 wave_height_m: slosh_theory::codes::api650_wave_height(size, sa_g),
+            },
+            CodeWaveHeight {
+                code: "ACI 350.3-06 (7-2)".into(),
+                formula: "(D/2) C_c I, C_c I = S_a(T_c, 0.5 %)/g".into(),
+                wave_height_m: slosh_theory::codes::aci350_circular_wave_height(size, sa_g),
             },
             CodeWaveHeight {
                 code: "EN 1998-4 Annex A (A.9)".into(),

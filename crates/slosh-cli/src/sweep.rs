@@ -567,9 +567,15 @@ pub enum SweepMode {
         /// Run `sbatch` after writing.
         submit: bool,
     },
-    /// Run case I only (an array task; `None`: `$SLURM_ARRAY_TASK_ID`); `sweep.csv` is left
-    /// to `Collect`.
-    Task(Option<usize>),
+    /// Run case `index` only (an array task; `None`: `$SLURM_ARRAY_TASK_ID`) with `threads`
+    /// threads (`None`: [`crate::slurm::task_threads`]'s choice); `sweep.csv` is left to
+    /// `Collect`.
+    Task {
+        /// The case index.
+        index: Option<usize>,
+        /// The run's threads.
+        threads: Option<usize>,
+    },
     /// Write `sweep.csv` from the cases finished so far (the others `missing` or `failed`).
     Collect,
 }
@@ -694,7 +700,7 @@ pub fn cli_sweep_as(
     let csv = out_dir.join("sweep.csv");
     let results = match mode {
         SweepMode::Run => run_planned(
-            exe, case, &planned, &out_dir, jobs, quiet, allow_read, "sweep",
+            exe, case, &planned, &out_dir, jobs, None, quiet, allow_read, "sweep",
         ),
         SweepMode::Collect => planned.iter().map(collected_case).collect(),
         SweepMode::Slurm { options, submit } => {
@@ -714,8 +720,9 @@ pub fn cli_sweep_as(
                 cases: Vec::new(),
             });
         }
-        SweepMode::Task(index) => {
+        SweepMode::Task { index, threads } => {
             let i = crate::slurm::task_index(*index)?;
+            let threads = crate::slurm::task_threads(*threads)?;
             if i >= planned.len() {
                 bail!(
                     "task {i}: the sweep has {} cases (tasks 0 to {})",
@@ -729,6 +736,7 @@ pub fn cli_sweep_as(
                 &planned[i..=i],
                 &out_dir,
                 1,
+                Some(threads),
                 quiet,
                 allow_read,
                 "sweep",
@@ -858,7 +866,8 @@ pub(crate) fn done_before(p: &Planned) -> Option<ReadSummary> {
 }
 
 /// Runs the planned cases of a sweep or an assessment (`what` names it in messages), at most
-/// `jobs` at once (0: one per core), each as a child `slosh run`; a case whose folder already
+/// `jobs` at once (0: one per core), each as a child `slosh run` with `threads` threads
+/// (`None`: cores / jobs); a case whose folder already
 /// holds a completed summary with the same parameters is not run again, and one interrupted
 /// with the same parameters and a checkpoint continues from it (`slosh resume`). Returns one result
 /// per planned case, in order; cases a SIGINT/SIGTERM kept from starting are `Interrupted`.
@@ -869,6 +878,7 @@ pub(crate) fn run_planned(
     planned: &[Planned],
     out_dir: &Path,
     jobs: usize,
+    threads: Option<usize>,
     quiet: bool,
     allow_read: &[PathBuf],
     what: &str,
@@ -900,7 +910,7 @@ pub(crate) fn run_planned(
     let jobs = if jobs == 0 { cores } else { jobs }
         .min(to_run.len())
         .max(1);
-    let threads = (cores / jobs).max(1);
+    let threads = threads.unwrap_or((cores / jobs).max(1));
     if !quiet {
         eprintln!(
             "{what}: {total} case{} into {}: {} to run ({} done before), {jobs} at a time with {threads} thread{} each",
@@ -936,9 +946,10 @@ pub(crate) fn run_planned(
                     );
                 } else if !quiet {
                     eprintln!(
-                        "{what}: [{n}/{}] {} completed in {:.1} s",
+                        "{what}: [{n}/{}] {} {} in {:.1} s",
                         to_run.len(),
                         o.folder,
+                        o.status,
                         o.wall_time_s
                     );
                 }

@@ -334,3 +334,70 @@ fn sweep_as_array_tasks_gives_the_local_sweep_table() {
         table_without_timing(&tasks.join("sweep.csv"))
     );
 }
+
+/// The freeboard the report judges is the tank's as simulated: at dx = 0.025 m the roof of
+/// the small case (0.26 m) goes to the nearest lattice level, 10 spacings = 0.25 m, over
+/// 0.2 m of water (8 rows): 0.05 m where the script asks for 0.06 m; the report names both.
+/// Array tasks take `$SLURM_CPUS_PER_TASK` threads, and `--threads` overrides it.
+#[test]
+fn the_freeboard_is_the_simulated_tanks_and_tasks_take_slurm_cpus() {
+    let dir = temp("fitted");
+    let case = small_case(&dir);
+    let suite = dir.join("suite.csv");
+    std::fs::write(&suite, "name,amp\ngentle,0.5\nstrong,3\n").unwrap();
+    let out = dir.join("out");
+    let o = slosh(&[
+        "assess",
+        case.to_str().unwrap(),
+        "--motions",
+        suite.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "dx=0.025",
+        "--slurm",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    for (task, threads, expected) in [("0", None, "threads: 3,"), ("1", Some("2"), "threads: 2,")] {
+        let mut c = Command::new(exe());
+        c.args(["assess", "--task", task, "--out", out.to_str().unwrap()])
+            .env("SLURM_CPUS_PER_TASK", "3");
+        if let Some(n) = threads {
+            c.args(["--threads", n]);
+        }
+        let o = c.output().unwrap();
+        assert!(o.status.success(), "{}", text(&o));
+        let name = if task == "0" { "gentle" } else { "strong" };
+        let summary =
+            std::fs::read_to_string(out.join("runs").join(name).join("summary.ron")).unwrap();
+        assert!(
+            summary.contains(expected),
+            "task {task}: {expected} not in {summary}"
+        );
+    }
+    let o = slosh(&["assess", "--collect", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+
+    let rows = table_without_timing(&out.join("assessment.csv"));
+    let col = |name: &str| rows[0].iter().position(|c| c == name).unwrap();
+    for r in &rows[1..] {
+        let free: f64 = r[col("freeboard_m")].parse().unwrap();
+        let specified: f64 = r[col("freeboard_specified_m")].parse().unwrap();
+        assert!((free - 0.05).abs() < 1e-9, "simulated freeboard {free} m");
+        assert!(
+            (specified - 0.06).abs() < 1e-12,
+            "specified freeboard {specified} m"
+        );
+        let eta: f64 = r[col("max_eta_m")].parse().unwrap();
+        assert_eq!(r[col("freeboard_exceeded")], (eta > free).to_string());
+    }
+    let report = std::fs::read_to_string(out.join("assessment.md")).unwrap();
+    for words in [
+        "Freeboard 0.0500 m (tank as simulated, fitted to the particle lattice; 0.0600 m as \
+         specified)",
+        "to the roof 0.0500 m in the tank as simulated",
+        "0.0600 m in the tank as specified",
+    ] {
+        assert!(report.contains(words), "{words} not in\n{report}");
+    }
+}

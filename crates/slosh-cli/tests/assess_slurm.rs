@@ -1,7 +1,10 @@
 //! `slosh assess --slurm` on a real Slurm: a single-node cluster (munged, slurmctld, slurmd)
 //! started in a temporary folder, a 3-motion 2D suite submitted as a job array, collected,
 //! and its report compared with the one `slosh assess --jobs 2` writes locally; the same for
-//! a 2-case `slosh sweep --slurm` and its `sweep.csv`.
+//! a 2-case `slosh sweep --slurm` and its `sweep.csv`; then an array task requeued while it
+//! runs (`scontrol requeue`: Slurm sends SIGTERM, as at a time limit or a preemption) continues
+//! from its checkpoint when it runs again, with `$SLURM_CPUS_PER_TASK` threads, and ends with
+//! the files of the same motion run locally.
 //!
 //! Needs Debian's `slurm-wlm` and `munge` and root (the daemons run as root, without
 //! systemd); `.ci/run` installs them. Without them the test fails saying so, unless
@@ -496,10 +499,160 @@ fn slurm_job_array_gives_the_local_report() {
         table_without_timing(&sweep_on_slurm.join("sweep.csv")),
         table_without_timing(&sweep_local.join("sweep.csv"))
     );
+    requeued_task_resumes_from_its_checkpoint(&dir, &cluster, &case);
     drop(cluster);
     eprintln!(
         "Slurm test: cluster up in {:.1} s, total {:.1} s",
         cluster_up.as_secs_f64(),
         start.elapsed().as_secs_f64()
+    );
+}
+
+/// Waits up to `seconds` for `ready`, then fails with `what` and the cluster's logs.
+fn wait_until(cluster: &Cluster, seconds: u64, what: &str, ready: impl Fn() -> bool) {
+    let start = Instant::now();
+    while !ready() {
+        assert!(
+            start.elapsed() < Duration::from_secs(seconds),
+            "{what} after {seconds} s\n{}",
+            cluster.logs()
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+/// One motion of the 2D El Centro tank submitted as a one-task array with one CPU per task,
+/// requeued once its run is under way: the task's run stops with a checkpoint, the task runs
+/// again, continues the run from the checkpoint (its summary lists the resumption) and ends
+/// with the files of the same motion run locally, byte for byte.
+fn requeued_task_resumes_from_its_checkpoint(dir: &Path, cluster: &Cluster, case: &Path) {
+    let suite = dir.join("requeue-suite.csv");
+    std::fs::write(&suite, "name,pga\nec_3,3.0\n").unwrap();
+    let assess = |out: &Path, extra: &[&str]| -> Output {
+        let mut args: Vec<String> = [
+            "assess",
+            case.to_str().unwrap(),
+            "--motions",
+            suite.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]
+        .map(String::from)
+        .to_vec();
+        for set in [
+            "dx=0.1",
+            "dt=0.0005",
+            "settle=0.5",
+            "duration=8.5",
+            "frame_interval=0",
+        ] {
+            args.extend(["--set".to_string(), set.to_string()]);
+        }
+        args.extend(extra.iter().map(|s| s.to_string()));
+        Command::new(exe())
+            .args(&args)
+            .env("SLURM_CONF", &cluster.conf)
+            .output()
+            .unwrap()
+    };
+    let on_slurm = dir.join("requeue");
+    let o = assess(&on_slurm, &["--slurm", "--submit", "--cpus-per-task", "1"]);
+    assert!(o.status.success(), "{}\n{}", text(&o), cluster.logs());
+    let job = text(&o)
+        .lines()
+        .find_map(|l| {
+            l.strip_prefix("submitted: job ")
+                .map(|s| s.trim().to_string())
+        })
+        .unwrap_or_else(|| panic!("no job id in {}", text(&o)));
+    let run = on_slurm.join("runs/ec_3");
+    let lines = |f: &Path| std::fs::read_to_string(f).map_or(0, |t| t.lines().count());
+    // An eighth of the 850 rows (0.01 s apart) written: the run is under way.
+    wait_until(cluster, 120, "the run did not start", || {
+        let summary = std::fs::read_to_string(run.join("summary.ron")).unwrap_or_default();
+        assert!(
+            !summary.contains("status: \"failed\""),
+            "{}",
+            std::fs::read_to_string(run.join("run.log")).unwrap_or_default()
+        );
+        lines(&run.join("series.csv")) > 100
+    });
+    let o = cluster_command("scontrol", &cluster.conf)
+        .args(["requeue", &format!("{job}_0")])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "scontrol requeue: {}", text(&o));
+    let status = || std::fs::read_to_string(run.join("summary.ron")).unwrap_or_default();
+    wait_until(cluster, 60, "the requeued run did not stop", || {
+        status().contains("status: \"interrupted\"")
+    });
+    assert!(run.join("checkpoint/state.bin").exists());
+    // Slurm holds a requeued job back for a while (its begin time is set ahead); let it
+    // start now.
+    let task = format!("{job}_0");
+    wait_until(cluster, 60, "the requeued task is not pending", || {
+        cluster_command("squeue", &cluster.conf)
+            .args(["-h", "-o", "%T", "-j", &job])
+            .output()
+            .is_ok_and(|q| String::from_utf8_lossy(&q.stdout).trim() == "PENDING")
+    });
+    let o = cluster_command("scontrol", &cluster.conf)
+        .args(["update", &format!("JobId={task}"), "StartTime=now"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "scontrol update: {}", text(&o));
+    let stopped_at = lines(&run.join("series.csv"));
+    assert!(
+        stopped_at < 800,
+        "stopped before its end: {stopped_at} lines"
+    );
+
+    // The local run of the same motion, while the task waits and runs again.
+    let local = dir.join("requeue-local");
+    let o = assess(&local, &["--jobs", "1", "--quiet"]);
+    assert!(o.status.success(), "{}", text(&o));
+
+    wait_until(cluster, 240, "the requeued task did not finish", || {
+        cluster_command("squeue", &cluster.conf)
+            .args(["-h", "-j", &job])
+            .output()
+            .is_ok_and(|q| {
+                q.status.success() && String::from_utf8_lossy(&q.stdout).trim().is_empty()
+            })
+    });
+    let summary = status();
+    assert!(summary.contains("status: \"completed\""), "{summary}");
+    assert!(
+        summary.contains("from_step:"),
+        "continued from its checkpoint: {summary}"
+    );
+    assert!(
+        summary.contains("threads: 1,"),
+        "$SLURM_CPUS_PER_TASK threads: {summary}"
+    );
+    for f in ["series.csv", "roof_pressure.csv"] {
+        let (a, b) = (
+            std::fs::read(run.join(f)).unwrap(),
+            std::fs::read(local.join("runs/ec_3").join(f)).unwrap(),
+        );
+        assert!(
+            a == b,
+            "{f} of the requeued task differs from the local run's"
+        );
+    }
+    let o = Command::new(exe())
+        .args([
+            "assess",
+            "--collect",
+            "--quiet",
+            "--out",
+            on_slurm.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(
+        table_without_timing(&on_slurm.join("assessment.csv")),
+        table_without_timing(&local.join("assessment.csv"))
     );
 }

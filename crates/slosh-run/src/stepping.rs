@@ -119,8 +119,9 @@ impl<F: FnMut() -> Option<i32>> StopRequest for F {
 }
 
 /// Advances `sim` under `motion` until `until`: each step asks the motion for the ground
-/// acceleration at the current time, calls `hooks.before_step`, steps, checks `stop`, then
-/// calls `hooks.after_step`. The state reached stays in `sim` when an error ends the loop.
+/// acceleration at the current time, calls `hooks.before_step`, steps, calls
+/// `hooks.after_step`, then checks `stop` (so that a stopped run has measured its last step
+/// as one that goes on does). The state reached stays in `sim` when an error ends the loop.
 pub fn advance<const D: usize, M, H, S>(
     sim: &mut Simulation<D>,
     motion: &mut M,
@@ -148,13 +149,15 @@ where
             .map_err(|error| StepError::Motion { time: t, error })?;
         hooks.before_step(sim, accel).map_err(StepError::Hook)?;
         sim.step(to_vector::<D>(accel))?;
+        // The step's measurements are complete before a stop: a run stopped here and
+        // continued from its state takes the same measurements as one that goes on.
+        hooks.after_step(sim).map_err(StepError::Hook)?;
         if let Some(code) = stop.stop_requested() {
             return Err(StepError::Stopped {
                 time: sim.time(),
                 code,
             });
         }
-        hooks.after_step(sim).map_err(StepError::Hook)?;
     }
 }
 

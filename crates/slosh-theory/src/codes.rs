@@ -106,6 +106,15 @@ pub fn aci350_rectangular_wave_height(length: f64, convective_accel_g: f64) -> f
     0.5 * length * convective_accel_g
 }
 
+/// ACI 350.3-06 §7.1 Eq. 7-2 sloshing wave height of a circular tank (m): d_max = (D/2) C_c I,
+/// D the inner diameter, here with C_c I = A_f the convective spectral acceleration in g (the
+/// record's S_a(T_c)/g at 0.5 % damping). The circular form of Eq. 7-1 with D for L. (The
+/// stored public pages searched quote ACI 350.3-06's freeboard chapter but not this
+/// equation's text; the form is the standard's, as for Eq. 7-1 above.)
+pub fn aci350_circular_wave_height(diameter: f64, convective_accel_g: f64) -> f64 {
+    0.5 * diameter * convective_accel_g
+}
+
 /// EN 1998-4 Annex A (Eq. A.9) peak sloshing wave height of a circular tank (m):
 /// d_max = 0.84 R S_e(T_c)/g, `spectral_accel_g` = S_e(T_c)/g at the convective damping (0.5 %).
 /// (0.84 R ≈ 2R/(ξ₁₁² − 1) = 0.837 R, the first-mode participation at the wall.)
@@ -290,6 +299,10 @@ mod tests {
         assert!((ec8_circular_wave_height(15.0, 0.1) - 1.26).abs() < 1e-12);
         assert!((ec8_rectangular_wave_height(10.0, 0.2) - 1.0).abs() < 1e-12);
         assert!((aci350_rectangular_wave_height(10.0, 0.2) - 1.0).abs() < 1e-12);
+        // ACI 350.3-06 Eq. 7-2, circular: (D/2) C_c I = (24/2)·0.15 = 1.8 m by hand; API's
+        // 0.42 D A_f for the same tank is 0.42·24·0.15 = 1.512 m.
+        assert!((aci350_circular_wave_height(24.0, 0.15) - 1.8).abs() < 1e-12);
+        assert!((api650_wave_height(24.0, 0.15) - 1.512).abs() < 1e-12);
         assert_eq!(
             freeboard_check(Some(1.3), Some(1.26)).verdict,
             FreeboardVerdict::Ok

@@ -39,6 +39,10 @@ pub struct AssessArgs {
     #[arg(long, value_name = "I", num_args = 0..=1,
           conflicts_with_all = ["case", "motions", "slurm", "collect", "set"])]
     pub task: Option<Option<usize>>,
+    /// Threads of the task's run (with --task; default: $SLURM_CPUS_PER_TASK when set, else
+    /// all cores).
+    #[arg(long, value_name = "N", requires = "task")]
+    pub threads: Option<usize>,
     /// Write the report of the assessment in --out DIR from its finished runs and list the
     /// missing and failed ones.
     #[arg(long, conflicts_with_all = ["case", "motions", "slurm", "set"])]
@@ -52,7 +56,7 @@ pub fn cli_assess(args: AssessArgs, overrides: Vec<(String, ParamValue)>) -> Res
     if let Some(task) = args.task {
         let out = needs_out(&args.out, "--task")?;
         let index = crate::slurm::task_index(task)?;
-        let status = run_task(&exe, out, index)?;
+        let status = run_task(&exe, out, index, args.threads)?;
         if !args.quiet {
             eprintln!("assess: task {index} {status}");
         }

@@ -4,8 +4,10 @@
 //! Per motion: the peak ground acceleration and S_a(T_c) at 0.5 % damping of the applied
 //! motion, the SPH peaks (largest wall elevation, roof contact and impacts, roof pressure,
 //! force and impulse, base shear, overturning moment) and the code estimates from the same
-//! spectrum (API 650 Annex E E.7.2 or ACI 350.3-06 Eq. 7-1, and EN 1998-4 Annex A wave
-//! heights; Malhotra's 2005 roof pressure for a wave above the freeboard, see `docs/`).
+//! spectrum (circular tanks: API 650 Annex E E.7.2 and ACI 350.3-06 Eq. 7-2; rectangular:
+//! ACI 350.3-06 Eq. 7-1; both: EN 1998-4 Annex A wave heights; Malhotra's 2005 roof pressure
+//! for a wave above the freeboard, see `docs/`). The freeboard is the tank's as simulated
+//! (fitted to the particle lattice), as the runs' summaries report it.
 //! Over the suite: median, 84th percentile and maximum of each number, and one verdict line
 //! per criterion (freeboard, roof).
 
@@ -60,6 +62,9 @@ struct RunPeaks {
     theory: TheoryPeriod,
     /// The tank as simulated (a `TankSpec`), read for its sizes.
     tank: ron::Value,
+    /// The tank as the script gave it (before the lattice fit), read for its freeboard.
+    #[serde(default = "no_tank")]
+    tank_requested: ron::Value,
     #[serde(default)]
     impacts: Vec<RoofImpact>,
     #[serde(default)]
@@ -91,9 +96,60 @@ impl RunPeaks {
             .find(|p| p.column == column)
             .map_or(f64::NAN, |p| p.max_abs)
     }
+    /// The freeboard of the tank as simulated (fitted to the particle lattice, with the fill
+    /// depth the lattice holds), which the run's code estimates also use.
     fn freeboard(&self) -> Option<f64> {
         self.input_spectrum.as_ref().and_then(|s| s.freeboard_m)
     }
+    /// The freeboard of the tank as the script gave it, when it differs from [`Self::freeboard`]
+    /// by more than a micrometre.
+    fn requested_freeboard(&self) -> Option<f64> {
+        let simulated = self.freeboard()?;
+        freeboard_of(&self.tank_requested).filter(|f| (f - simulated).abs() > 1e-6)
+    }
+    /// How the verdict names the freeboard: "0.06 m" or "2.8 m (tank as simulated; 3 m as
+    /// specified)".
+    fn freeboard_text(&self) -> Option<String> {
+        let f = self.freeboard()?;
+        Some(match self.requested_freeboard() {
+            Some(n) => format!(
+                "{} m (tank as simulated, fitted to the particle lattice; {} m as specified)",
+                sig3(f),
+                sig3(n)
+            ),
+            None => format!("{} m", sig3(f)),
+        })
+    }
+}
+
+fn no_tank() -> ron::Value {
+    ron::Value::Unit
+}
+
+/// Height from the floor to the roof minus the fill depth of a summary's tank (a `TankSpec`
+/// map with `height`, `depth` and a `roof`), when it has a roof.
+fn freeboard_of(tank: &ron::Value) -> Option<f64> {
+    let ron::Value::Map(map) = tank else {
+        return None;
+    };
+    let get = |key: &str| {
+        map.iter()
+            .find(|(k, _)| matches!(k, ron::Value::String(s) if s == key))
+            .map(|(_, v)| v)
+    };
+    let number = |key: &str| match get(key) {
+        Some(ron::Value::Number(n)) => Some(n.into_f64()),
+        _ => None,
+    };
+    let roofed = match get("roof") {
+        Some(ron::Value::Bool(b)) => *b,
+        Some(ron::Value::String(s)) => s != "none",
+        _ => false,
+    };
+    if !roofed {
+        return None;
+    }
+    Some(number("height")? - number("depth")?)
 }
 
 /// How a motion's run stands.
@@ -414,6 +470,7 @@ fn write_csv(
         "freeboard_exceeded".into(),
         "lost_particles".into(),
         "wall_time_s".into(),
+        "freeboard_specified_m".into(),
     ]);
     let mut table = slosh_io::TableWriter::create_whole(path, &header)
         .with_context(|| format!("cannot write {}", path.display()))?;
@@ -452,6 +509,12 @@ fn write_csv(
                 );
                 row.push(r.lost_particles.to_string());
                 row.push(number(r.wall_time_s));
+                row.push(
+                    r.freeboard()
+                        .and(freeboard_of(&r.tank_requested))
+                        .map(number)
+                        .unwrap_or_default(),
+                );
             }
             RunState::Failed(e) | RunState::Missing(e) => {
                 let word = if matches!(m.state, RunState::Failed(_)) {
@@ -522,13 +585,14 @@ fn verdict_lines(
         format!(" against {} (medians)", code_medians.join(" and "))
     };
     let freeboard = completed.iter().find_map(|(_, r)| r.freeboard());
+    let freeboard_text = completed.iter().find_map(|(_, r)| r.freeboard_text());
     match freeboard {
         Some(f) => {
             let exceeded = eta.iter().filter(|&&e| e > f).count();
             lines.push(format!(
-                "Freeboard {} m: exceeded in {exceeded} of {n} motions; SPH median wave height {} m \
+                "Freeboard {}: exceeded in {exceeded} of {n} motions; SPH median wave height {} m \
                  (84th percentile {} m, maximum {} m){against}.",
-                sig3(f),
+                freeboard_text.unwrap_or_default(),
                 sig3(eta_median),
                 sig3(eta_84),
                 sig3(eta_max)
@@ -802,7 +866,16 @@ fn markdown(
             tank_text(&r.tank),
             sig3(r.theory.period_1),
             r.freeboard()
-                .map(|f| format!("; freeboard from the still level to the roof {} m", sig3(f)))
+                .map(|f| format!(
+                    "; freeboard from the still level to the roof {} m in the tank as simulated \
+                     (its sizes fitted to the particle lattice and the fill depth whole rows of \
+                     particles, as the run's summary reports them; the verdicts and code \
+                     estimates use it){}",
+                    sig3(f),
+                    r.requested_freeboard()
+                        .map(|n| format!(", {} m in the tank as specified", sig3(n)))
+                        .unwrap_or_default()
+                ))
                 .unwrap_or_else(|| "; no roof".into())
         );
         if r.dim == 2 {
@@ -854,7 +927,8 @@ fn markdown(
         s,
         "\nS_a(T_c, 0.5 %) is the pseudo-acceleration of the applied motion's own response \
          spectrum at the tank's convective period with the codes' convective damping; the code \
-         wave heights use it (API 650 Annex E E.7.2: 0.42 D A_f; ACI 350.3-06 Eq. 7-1: (L/2) A_f; \
+         wave heights use it (API 650 Annex E E.7.2: 0.42 D A_f; ACI 350.3-06 Eq. 7-1: (L/2) A_f, \
+         Eq. 7-2: (D/2) A_f; \
          EN 1998-4 Annex A: 0.84 R S_e or 0.5 L S_e). Malhotra's (2005) roof pressure \
          P = ρ g x_f tan θ with θ = π/4 takes the part of each code wave above the freeboard. \
          The SPH wave height is the largest elevation at the walls on the excitation axis. The \
