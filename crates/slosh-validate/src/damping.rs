@@ -561,7 +561,7 @@ mod tests {
     /// A damped cosine with known ζ and period: the crest measurement must give both back.
     #[test]
     fn crest_decay_recovers_a_damped_cosine() {
-        let (zeta, period) = (0.007, 1.13);
+        let (zeta, period): (f64, f64) = (0.007, 1.13);
         let omega_n = 2.0 * std::f64::consts::PI / period / (1.0 - zeta * zeta).sqrt();
         let omega_d = omega_n * (1.0 - zeta * zeta).sqrt();
         let ts: Vec<f64> = (0..=1600).map(|i| i as f64 * period / 200.0).collect();
