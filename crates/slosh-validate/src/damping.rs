@@ -355,6 +355,13 @@ pub(crate) fn free_decay_with(
                 run.wall_s,
                 1e6 * run.wall_s / run.particle_steps.max(1.0),
             ));
+            ctx.say(&format!(
+                "  → ζ = {}, T/T₁ − 1 = {:+.2} %, scatter {:.1} % ({} crests)",
+                pct(c.zeta),
+                100.0 * period_err,
+                100.0 * c.scatter,
+                c.crests
+            ));
             let zeta_name = format!("{label}: damping ratio ζ, tank {tank}");
             let zeta_row = match n {
                 20 => open_if_failed(
@@ -523,6 +530,10 @@ pub fn viscous_decay(ctx: &Context) -> GroupResult {
         // γ = ζ ω_d with the measured period: the amplitude falls by e^{−δ} per period.
         let gamma = c.zeta / (1.0 - c.zeta * c.zeta).sqrt() * 2.0 * std::f64::consts::PI / c.period;
         let k = rectangular_wavenumber(w, 1);
+        ctx.say(&format!(
+            "  → γ = {gamma:.4} 1/s, exact {:.4} 1/s",
+            free_slip_viscous_mode(w, run.depth, VISCOUS_NU, GRAVITY, 1).map_or(f64::NAN, |s| -s.re)
+        ));
         match free_slip_viscous_mode(w, run.depth, VISCOUS_NU, GRAVITY, 1) {
             Some(s) => g.checks.push(open_if_failed(
                 super::relative_check(

@@ -421,7 +421,7 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             ),
         ));
         all.push((
-            "sloshing damping: low-dissipation variants of the modern scheme",
+            "low-dissipation variants of the modern scheme: free decay",
             one(
                 "Sloshing damping: low-dissipation variants (measured, not judged)",
                 damping::low_dissipation_variants,
