@@ -505,6 +505,7 @@ pub fn viscous_decay(ctx: &Context) -> GroupResult {
     let mut params = SphParams::modern();
     params.dynamic_viscosity = RHO * VISCOUS_NU;
     params.av_alpha = 0.0;
+    params.av_beta = 0.0;
     params.wall_no_slip = false;
     let (w, d) = TANKS[0];
     let levels: &[usize] = if ctx.quick {
