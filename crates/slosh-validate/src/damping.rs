@@ -256,9 +256,10 @@ fn at_most_check(group: &str, name: &str, measured: f64, limit: f64, reason: &st
 }
 
 /// What is known of the modern scheme's damping gap, shown where a target is not met.
-const DAMPING_GAP: &str = "the modern preset's numerical damping (artificial viscosity \
-    α = 0.02 with c = c0, density diffusion, Adami walls) is above water's; the low-dissipation \
-    parts of docs/scheme.md are measured against this stage";
+const DAMPING_GAP: &str = "with the linear artificial viscosity gone (α = 0, β = 3) the \
+    1.0 × 0.5 m tank meets the target at 20 per depth; what else dissipates in the shallower tank \
+    at coarse resolution and at 30–40 per depth is not known yet (not the density diffusion: \
+    δ = 0.05 changed ζ by a tenth; docs/validation.md)";
 /// What is known of the viscous gap.
 const VISCOUS_GAP: &str = "the viscous term (Eq. 8 with the strain rate of Eq. 4–5) summed over \
     liquid neighbours alone at the free surface is the suspected cause (Colagrossi et al. 2011 \
