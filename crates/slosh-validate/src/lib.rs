@@ -8,7 +8,9 @@
 
 #![warn(missing_docs)]
 
+mod damping;
 mod dambreak;
+mod forced_linear;
 mod modern;
 mod real_scale;
 mod report;
@@ -348,6 +350,21 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             Box::new(modern::groups),
         ),
         (
+            "sloshing damping: free decay of the first mode, 15–40 particles per depth",
+            one("Sloshing damping: free decay (modern scheme)", damping::free_decay),
+        ),
+        (
+            "sloshing damping: viscous liquid against the exact linear decay",
+            one(
+                "Sloshing damping: viscous liquid, free-slip walls",
+                damping::viscous_decay,
+            ),
+        ),
+        (
+            "forced linear response from rest: both presets, first crests",
+            one("Forced linear response from rest", forced_linear::forced_from_rest),
+        ),
+        (
             "modern scheme: dam-break front",
             one("Modern scheme: dam-break front", dambreak::front_modern),
         ),
@@ -401,6 +418,13 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             one(
                 "Modern scheme: 50 s stability (paper §3.3)",
                 modern::stability,
+            ),
+        ));
+        all.push((
+            "low-dissipation variants of the modern scheme: free decay",
+            one(
+                "Sloshing damping: low-dissipation variants (measured, not judged)",
+                damping::low_dissipation_variants,
             ),
         ));
         all.push((
