@@ -48,13 +48,27 @@ impl<const D: usize> Simulation<D> {
             wall_force: force.wall_force,
             shifting_sums: force.shifting_sums,
         };
-        match force.density_rate {
-            DensityRate::None => run.with_walls::<NoDensityRate>(self),
-            DensityRate::Continuity => run.with_walls::<ContinuityOnly>(self),
-            DensityRate::MolteniColagrossi => run.with_walls::<MolteniColagrossiDiffusion>(self),
-            DensityRate::Fourtakas => run.with_walls::<FourtakasDiffusion>(self),
+        // The pass's 24 variants per dimension are compiled once, here, by the two
+        // functions below, rather than again in every crate that steps a simulation.
+        let sim: &mut dyn std::any::Any = self;
+        if let Some(sim) = sim.downcast_mut::<Simulation<2>>() {
+            coupled_pass_2d(sim, &run.in_dimension(), force.density_rate);
+        } else if let Some(sim) = sim.downcast_mut::<Simulation<3>>() {
+            coupled_pass_3d(sim, &run.in_dimension(), force.density_rate);
+        } else {
+            unreachable!("Simulation::new accepts two and three dimensions only");
         }
     }
+}
+
+/// The coupled pass of a 2D simulation.
+fn coupled_pass_2d(sim: &mut Simulation<2>, run: &CoupledRun<2>, density_rate: DensityRate) {
+    run.with_density_rate(sim, density_rate)
+}
+
+/// The coupled pass of a 3D simulation.
+fn coupled_pass_3d(sim: &mut Simulation<3>, run: &CoupledRun<3>, density_rate: DensityRate) {
+    run.with_density_rate(sim, density_rate)
 }
 
 /// The choices of a coupled force pass, turned into the types of its pair terms one at a
@@ -69,6 +83,30 @@ struct CoupledRun<const D: usize> {
 }
 
 impl<const D: usize> CoupledRun<D> {
+    /// The same choices in dimension `E` (the body force's components copied: `E` = `D`).
+    fn in_dimension<const E: usize>(&self) -> CoupledRun<E> {
+        let mut body_force = Vector::<E>::zeros();
+        for (b, f) in body_force.iter_mut().zip(self.body_force.iter()) {
+            *b = *f;
+        }
+        CoupledRun {
+            sweep: self.sweep,
+            lists: self.lists,
+            body_force,
+            wall_force: self.wall_force,
+            shifting_sums: self.shifting_sums,
+        }
+    }
+
+    fn with_density_rate(&self, sim: &mut Simulation<D>, density_rate: DensityRate) {
+        match density_rate {
+            DensityRate::None => self.with_walls::<NoDensityRate>(sim),
+            DensityRate::Continuity => self.with_walls::<ContinuityOnly>(sim),
+            DensityRate::MolteniColagrossi => self.with_walls::<MolteniColagrossiDiffusion>(sim),
+            DensityRate::Fourtakas => self.with_walls::<FourtakasDiffusion>(sim),
+        }
+    }
+
     fn with_walls<R: DensityRateTerm>(&self, sim: &mut Simulation<D>) {
         match self.wall_force {
             WallForce::Dynamic => self.with_shifting::<R, DynamicWallForce>(sim),
