@@ -8,7 +8,6 @@ use crate::terms::*;
 use rayon::prelude::*;
 
 impl<const D: usize> Simulation<D> {
-
     /// Leap-frog with continuity density: ρ(t + dt) = ρ(t) + dt Dρ(t), then the EOS.
     pub(crate) fn continuity_euler(&mut self, dt: f64) {
         let c = self.constants;
@@ -64,20 +63,27 @@ pub(crate) fn strain_pass<const D: usize, S: NeighbourSearch<D>>(
 
 /// What the sorted strain sweep reads and writes, so that its batch evaluation is an
 /// always-inlined method (a closure called from two places is compiled as a function).
-pub(crate) struct StrainSweep<'a, const D: usize> {
+pub(crate) struct StrainSweep<'a, 'id, const D: usize> {
     pub(crate) kernel: Kernel,
     pub(crate) m: f64,
     pub(crate) pos: &'a [Vector<D>],
     pub(crate) vel: &'a [Vector<D>],
     pub(crate) inv_rho: &'a [f64],
-    pub(crate) grad_acc: &'a SweepSlots<'a, Tensor<D>>,
+    pub(crate) grad_acc: &'a SweepSlots<'a, 'id, Tensor<D>>,
 }
 
-impl<const D: usize> StrainSweep<'_, D> {
+impl<'id, const D: usize> StrainSweep<'_, 'id, D> {
     /// A batch of pairs (i, j) within the support: (v_j − v_i) ⊗ ∇_i W_ij to i's sum and to
     /// j's, with the kernel factors of the batch from one vectorised loop.
     #[inline(always)]
-    pub(crate) fn batch(&self, block: &Block, i: usize, batch_j: &[u32], batch_r2: &[f64], grad_v: &mut Tensor<D>) {
+    pub(crate) fn batch(
+        &self,
+        block: &Block<'id>,
+        i: usize,
+        batch_j: &[u32],
+        batch_r2: &[f64],
+        grad_v: &mut Tensor<D>,
+    ) {
         let m = self.m;
         let (xi, vi, volume_i) = (self.pos[i], self.vel[i], m * self.inv_rho[i]);
         let mut batch_w = [0.0f64; BATCH];
@@ -96,16 +102,16 @@ impl<const D: usize> StrainSweep<'_, D> {
 
 /// One particle of the sorted strain sweep: its index, its neighbour list with fill and
 /// overflow flag, and its velocity-gradient sum.
-pub(crate) struct StrainOwner<'s, 'a, const D: usize> {
-    pub(crate) sweep: &'s StrainSweep<'a, D>,
-    pub(crate) block: &'s Block,
+pub(crate) struct StrainOwner<'s, 'a, 'id, const D: usize> {
+    pub(crate) sweep: &'s StrainSweep<'a, 'id, D>,
+    pub(crate) block: &'s Block<'id>,
     pub(crate) i: usize,
     pub(crate) list: &'s mut [u32],
     pub(crate) fill: ListFill,
     pub(crate) grad_v: Tensor<D>,
 }
 
-impl<const D: usize> ForwardPairBatch for StrainOwner<'_, '_, D> {
+impl<const D: usize> ForwardPairBatch for StrainOwner<'_, '_, '_, D> {
     #[inline(always)]
     fn batch(&mut self, batch_j: &[u32], batch_r2: &[f64]) {
         self.sweep
@@ -136,48 +142,56 @@ pub(crate) fn strain_pass_sorted<const D: usize>(
         .par_iter_mut()
         .with_min_len(PAR_CHUNK)
         .for_each(|g| *g = Tensor::<D>::zeros());
-    let grad_acc = SweepSlots::new(&mut fluid.strain_rate);
-    let counts = SweepSlots::new(&mut fluid.neighbours.count);
-    let starts = SweepSlots::new(&mut fluid.neighbours.start);
-    let sweep = StrainSweep {
-        kernel,
-        m,
-        pos,
-        vel,
-        inv_rho,
-        grad_acc: &grad_acc,
-    };
-    colour_sweep_listing(blocks, &mut fluid.neighbours.entries, capacity, |block, region| {
-        let (begin, end) = (block.begin, block.end);
-        // The block's lists are packed from the start of its share of the entries (see
-        // `density_pass_sorted`).
-        let mut cursor = 0;
-        for i in begin..end {
-            let xi = pos[i];
-            let list = &mut region[cursor..cursor + capacity];
-            let mut this = StrainOwner {
-                sweep: &sweep,
-                block,
-                i,
-                list: &mut *list,
-                fill: ListFill::default(),
-                grad_v: Tensor::<D>::zeros(),
-            };
-            forward_pairs_batched(grid, pos, i, c.support_sq, &mut this);
-            let StrainOwner {
-                mut fill, grad_v, ..
-            } = this;
-            grid.for_each_wall_candidate(&xi, |w| {
-                if (xi - wall_pos[w]).norm_squared() < c.support_sq {
-                    fill.push(list, w as u32 | WALL_NEIGHBOUR);
+    Sweep::scope(pos.len(), |sweep| {
+        let grad_acc = sweep.slots(&mut fluid.strain_rate);
+        let counts = sweep.slots(&mut fluid.neighbours.count);
+        let starts = sweep.slots(&mut fluid.neighbours.start);
+        let pairs = StrainSweep {
+            kernel,
+            m,
+            pos,
+            vel,
+            inv_rho,
+            grad_acc: &grad_acc,
+        };
+        colour_sweep_listing(
+            sweep,
+            blocks,
+            &mut fluid.neighbours.entries,
+            capacity,
+            |block, region| {
+                let (begin, end) = (block.begin, block.end);
+                // The block's lists are packed from the start of its share of the entries (see
+                // `density_pass_sorted`).
+                let mut cursor = 0;
+                for i in begin..end {
+                    let xi = pos[i];
+                    let list = &mut region[cursor..cursor + capacity];
+                    let mut this = StrainOwner {
+                        sweep: &pairs,
+                        block,
+                        i,
+                        list: &mut *list,
+                        fill: ListFill::default(),
+                        grad_v: Tensor::<D>::zeros(),
+                    };
+                    forward_pairs_batched(grid, pos, i, c.support_sq, &mut this);
+                    let StrainOwner {
+                        mut fill, grad_v, ..
+                    } = this;
+                    grid.for_each_wall_candidate(&xi, |w| {
+                        if (xi - wall_pos[w]).norm_squared() < c.support_sq {
+                            fill.push(list, w as u32 | WALL_NEIGHBOUR);
+                        }
+                    });
+                    let slot = block.slot(i);
+                    grad_acc.add(&slot, grad_v);
+                    counts.set(&slot, fill.stored_count());
+                    starts.set(&slot, (begin * capacity + cursor) as u32);
+                    cursor += fill.listed;
                 }
-            });
-            let slot = block.slot(i);
-            grad_acc.add(&slot, grad_v);
-            counts.set(&slot, fill.stored_count());
-            starts.set(&slot, (begin * capacity + cursor) as u32);
-            cursor += fill.listed;
-        }
+            },
+        );
     });
     // Eq. 4–5: V = G + Gᵀ − (2/3) tr(G) I.
     fluid

@@ -5,7 +5,7 @@
 
 use super::{CoupledForce, DensityRate, PairSweep, WallForce};
 use crate::sim::*;
-use crate::sweep::{full_sweep, half_sweep};
+use crate::sweep::{full_sweep, half_sweep, Sweep};
 use crate::terms::*;
 use rayon::prelude::*;
 
@@ -24,13 +24,28 @@ impl<const D: usize> Simulation<D> {
                     .par_iter_mut()
                     .with_min_len(PAR_CHUNK)
                     .for_each(|a| *a = body_force);
-                let pass = Momentum::new(&c, &self.fluid, &self.walls, &mut acceleration, body_force);
-                half_sweep(grid, &self.blocks, Some(&self.fluid.neighbours), c.support_sq, &pass);
+                let (fluid, walls, blocks) = (&self.fluid, &self.walls, &self.blocks);
+                Sweep::scope(fluid.position.len(), |sweep| {
+                    let acceleration = sweep.slots(&mut acceleration);
+                    let pass = Momentum::new(&c, fluid, walls, acceleration, body_force);
+                    half_sweep(
+                        sweep,
+                        grid,
+                        blocks,
+                        Some(&fluid.neighbours),
+                        c.support_sq,
+                        &pass,
+                    );
+                });
             }
             (_, search) => {
-                let pass = Momentum::new(&c, &self.fluid, &self.walls, &mut acceleration, body_force);
-                let lists = Some(&self.fluid.neighbours);
-                with_search!(search, s => full_sweep(s, lists, c.support_sq, &pass));
+                let (fluid, walls) = (&self.fluid, &self.walls);
+                Sweep::scope(fluid.position.len(), |sweep| {
+                    let acceleration = sweep.slots(&mut acceleration);
+                    let pass = Momentum::new(&c, fluid, walls, acceleration, body_force);
+                    let lists = Some(&fluid.neighbours);
+                    with_search!(search, s => full_sweep(sweep, s, lists, c.support_sq, &pass));
+                });
             }
         }
         self.fluid.acceleration = acceleration;
@@ -40,7 +55,12 @@ impl<const D: usize> Simulation<D> {
     /// shifting sums of the plan. With `lists` (the strain-rate sweep's half lists of these
     /// positions) the half sweep reads its pairs from them, otherwise from the grid; the
     /// full sweep searches.
-    pub(crate) fn coupled_stage(&mut self, force: CoupledForce, lists: bool, body_force: Vector<D>) {
+    pub(crate) fn coupled_stage(
+        &mut self,
+        force: CoupledForce,
+        lists: bool,
+        body_force: Vector<D>,
+    ) {
         let run = CoupledRun {
             sweep: force.sweep,
             lists,
@@ -148,27 +168,33 @@ impl<const D: usize> CoupledRun<D> {
                         *g = Vector::<D>::zeros();
                         *s = 0.0;
                     });
-                let pass = Coupled::<D, R, W, SHIFT>::new(
-                    &c,
-                    &sim.fluid,
-                    &sim.walls,
-                    &sim.buffers,
-                    &mut out,
-                    body_force,
-                );
                 let lists = self.lists.then_some(&sim.fluid.neighbours);
-                half_sweep(grid, &sim.blocks, lists, c.support_sq, &pass);
+                Sweep::scope(sim.fluid.position.len(), |sweep| {
+                    let pass = Coupled::<D, R, W, SHIFT>::new(
+                        &c,
+                        &sim.fluid,
+                        &sim.walls,
+                        &sim.buffers,
+                        &mut out,
+                        sweep,
+                        body_force,
+                    );
+                    half_sweep(sweep, grid, &sim.blocks, lists, c.support_sq, &pass);
+                });
             }
             (_, search) => {
-                let pass = Coupled::<D, R, W, SHIFT>::new(
-                    &c,
-                    &sim.fluid,
-                    &sim.walls,
-                    &sim.buffers,
-                    &mut out,
-                    body_force,
-                );
-                with_search!(search, s => full_sweep(s, None, c.support_sq, &pass));
+                Sweep::scope(sim.fluid.position.len(), |sweep| {
+                    let pass = Coupled::<D, R, W, SHIFT>::new(
+                        &c,
+                        &sim.fluid,
+                        &sim.walls,
+                        &sim.buffers,
+                        &mut out,
+                        sweep,
+                        body_force,
+                    );
+                    with_search!(search, s => full_sweep(sweep, s, None, c.support_sq, &pass));
+                });
             }
         }
         out.restore(&mut sim.fluid, &mut sim.buffers);

@@ -192,15 +192,15 @@ pub(crate) fn eos_pass<const D: usize>(
 /// What the fluid pairs of the sorted density sweep read and write, so that the batch
 /// evaluation can be an always-inlined method (a closure called from two places is compiled
 /// as a function, with its sums in memory).
-pub(crate) struct DensitySweep<'a, const D: usize> {
+pub(crate) struct DensitySweep<'a, 'id, const D: usize> {
     pub(crate) kernel: Kernel,
     pub(crate) m: f64,
     pub(crate) pos: &'a [Vector<D>],
     pub(crate) vel: &'a [Vector<D>],
     pub(crate) inv_rho: &'a [f64],
-    pub(crate) rho_acc: &'a SweepSlots<'a, f64>,
-    pub(crate) ksum_acc: &'a SweepSlots<'a, f64>,
-    pub(crate) grad_acc: &'a SweepSlots<'a, Tensor<D>>,
+    pub(crate) rho_acc: &'a SweepSlots<'a, 'id, f64>,
+    pub(crate) ksum_acc: &'a SweepSlots<'a, 'id, f64>,
+    pub(crate) grad_acc: &'a SweepSlots<'a, 'id, Tensor<D>>,
 }
 
 /// The running sums of one particle in the sorted density sweep, and its list's fill.
@@ -211,14 +211,14 @@ pub(crate) struct DensitySums<const D: usize> {
     pub(crate) fill: ListFill,
 }
 
-impl<const D: usize> DensitySweep<'_, D> {
+impl<'id, const D: usize> DensitySweep<'_, 'id, D> {
     /// Evaluates a batch of fluid pairs (i, j) within the support, `owner` = (x_i, v_i,
     /// m/ρ_i), in a loop without unpredictable branches: adds them to i's `sums` and to j's
     /// accumulators, and appends the j to i's list.
     #[inline(always)]
     pub(crate) fn batch(
         &self,
-        block: &Block,
+        block: &Block<'id>,
         (xi, vi, volume_i): (Vector<D>, Vector<D>, f64),
         batch_j: &[u32],
         batch_r2: &[f64],
@@ -254,20 +254,26 @@ impl<const D: usize> DensitySweep<'_, D> {
 
 /// One particle of the sorted density sweep: its data, its neighbour list and its running
 /// sums.
-pub(crate) struct DensityOwner<'s, 'a, const D: usize> {
-    pub(crate) sweep: &'s DensitySweep<'a, D>,
-    pub(crate) block: &'s Block,
+pub(crate) struct DensityOwner<'s, 'a, 'id, const D: usize> {
+    pub(crate) sweep: &'s DensitySweep<'a, 'id, D>,
+    pub(crate) block: &'s Block<'id>,
     /// (x_i, v_i, m/ρ_i).
     pub(crate) owner: (Vector<D>, Vector<D>, f64),
     pub(crate) list: &'s mut [u32],
     pub(crate) sums: DensitySums<D>,
 }
 
-impl<const D: usize> ForwardPairBatch for DensityOwner<'_, '_, D> {
+impl<const D: usize> ForwardPairBatch for DensityOwner<'_, '_, '_, D> {
     #[inline(always)]
     fn batch(&mut self, batch_j: &[u32], batch_r2: &[f64]) {
-        self.sweep
-            .batch(self.block, self.owner, batch_j, batch_r2, self.list, &mut self.sums);
+        self.sweep.batch(
+            self.block,
+            self.owner,
+            batch_j,
+            batch_r2,
+            self.list,
+            &mut self.sums,
+        );
     }
 }
 
@@ -298,80 +304,82 @@ pub(crate) fn density_pass_sorted<const D: usize>(
         let wall_pos = &walls.position;
         let wall_inv_rho = &walls.inverse_density;
         let capacity = fluid.neighbours.capacity;
-        let rho_acc = SweepSlots::new(next_density);
-        let ksum_acc = SweepSlots::new(&mut fluid.kernel_sum);
-        // Velocity gradient G_ab = Σ (m/ρ_j)(v_j − v_i)_a ∂W/∂x_i,b (Eq. 5 terms); turned
-        // into V below.
-        let grad_acc = SweepSlots::new(&mut fluid.strain_rate);
-        let counts = SweepSlots::new(&mut fluid.neighbours.count);
-        let starts = SweepSlots::new(&mut fluid.neighbours.start);
-        let wall_sums = scatter.slots();
-        let sweep = DensitySweep {
-            kernel,
-            m,
-            pos,
-            vel,
-            inv_rho,
-            rho_acc: &rho_acc,
-            ksum_acc: &ksum_acc,
-            grad_acc: &grad_acc,
-        };
-        let entries = &mut fluid.neighbours.entries;
-        colour_sweep_listing(blocks, entries, capacity, |block, region| {
-            let (begin, end) = (block.begin, block.end);
-            // The block's lists are packed from the start of its share of the entries; a
-            // particle always has room for `capacity` entries (those before it used at most
-            // as many each).
-            let mut cursor = 0;
-            for i in begin..end {
-                let xi = pos[i];
-                let vi = vel[i];
-                let volume_i = m * inv_rho[i];
-                let list = &mut region[cursor..cursor + capacity];
-                // The particle itself (r = 0, no gradient).
-                let rho_sum = m * w0;
-                let kernel_sum = volume_i * w0;
-                let grad_v = Tensor::<D>::zeros();
-                let sums = DensitySums {
-                    rho: rho_sum,
-                    kernel_sum,
-                    grad_v,
-                    fill: ListFill::default(),
-                };
-                let mut this = DensityOwner {
-                    sweep: &sweep,
-                    block,
-                    owner: (xi, vi, volume_i),
-                    list: &mut *list,
-                    sums,
-                };
-                forward_pairs_batched(grid, pos, i, c.support_sq, &mut this);
-                let DensitySums {
-                    rho: mut rho_sum,
-                    mut kernel_sum,
-                    grad_v,
-                    mut fill,
-                } = this.sums;
-                grid.for_each_wall_candidate(&xi, |w_idx| {
-                    let xiw = xi - wall_pos[w_idx];
-                    let r2 = xiw.norm_squared();
-                    if r2 < c.support_sq {
-                        let w = kernel.value(r2.sqrt());
-                        rho_sum += m * w;
-                        kernel_sum += m * wall_inv_rho[w_idx] * w;
-                        // The pair's share of the wall particle's sums (Eq. 19 at the wall).
-                        wall_sums.add(block, w_idx, m * w, volume_i * w, r2, i as u32);
-                        fill.push(list, w_idx as u32 | WALL_NEIGHBOUR);
-                    }
-                });
-                let slot = block.slot(i);
-                counts.set(&slot, fill.stored_count());
-                starts.set(&slot, (begin * capacity + cursor) as u32);
-                rho_acc.add(&slot, rho_sum);
-                ksum_acc.add(&slot, kernel_sum);
-                grad_acc.add(&slot, grad_v);
-                cursor += fill.listed;
-            }
+        Sweep::scope(pos.len(), |sweep| {
+            let rho_acc = sweep.slots(next_density);
+            let ksum_acc = sweep.slots(&mut fluid.kernel_sum);
+            // Velocity gradient G_ab = Σ (m/ρ_j)(v_j − v_i)_a ∂W/∂x_i,b (Eq. 5 terms); turned
+            // into V below.
+            let grad_acc = sweep.slots(&mut fluid.strain_rate);
+            let counts = sweep.slots(&mut fluid.neighbours.count);
+            let starts = sweep.slots(&mut fluid.neighbours.start);
+            let wall_sums = scatter.slots();
+            let pairs = DensitySweep {
+                kernel,
+                m,
+                pos,
+                vel,
+                inv_rho,
+                rho_acc: &rho_acc,
+                ksum_acc: &ksum_acc,
+                grad_acc: &grad_acc,
+            };
+            let entries = &mut fluid.neighbours.entries;
+            colour_sweep_listing(sweep, blocks, entries, capacity, |block, region| {
+                let (begin, end) = (block.begin, block.end);
+                // The block's lists are packed from the start of its share of the entries; a
+                // particle always has room for `capacity` entries (those before it used at most
+                // as many each).
+                let mut cursor = 0;
+                for i in begin..end {
+                    let xi = pos[i];
+                    let vi = vel[i];
+                    let volume_i = m * inv_rho[i];
+                    let list = &mut region[cursor..cursor + capacity];
+                    // The particle itself (r = 0, no gradient).
+                    let rho_sum = m * w0;
+                    let kernel_sum = volume_i * w0;
+                    let grad_v = Tensor::<D>::zeros();
+                    let sums = DensitySums {
+                        rho: rho_sum,
+                        kernel_sum,
+                        grad_v,
+                        fill: ListFill::default(),
+                    };
+                    let mut this = DensityOwner {
+                        sweep: &pairs,
+                        block,
+                        owner: (xi, vi, volume_i),
+                        list: &mut *list,
+                        sums,
+                    };
+                    forward_pairs_batched(grid, pos, i, c.support_sq, &mut this);
+                    let DensitySums {
+                        rho: mut rho_sum,
+                        mut kernel_sum,
+                        grad_v,
+                        mut fill,
+                    } = this.sums;
+                    grid.for_each_wall_candidate(&xi, |w_idx| {
+                        let xiw = xi - wall_pos[w_idx];
+                        let r2 = xiw.norm_squared();
+                        if r2 < c.support_sq {
+                            let w = kernel.value(r2.sqrt());
+                            rho_sum += m * w;
+                            kernel_sum += m * wall_inv_rho[w_idx] * w;
+                            // The pair's share of the wall particle's sums (Eq. 19 at the wall).
+                            wall_sums.add(block, w_idx, m * w, volume_i * w, r2, i as u32);
+                            fill.push(list, w_idx as u32 | WALL_NEIGHBOUR);
+                        }
+                    });
+                    let slot = block.slot(i);
+                    counts.set(&slot, fill.stored_count());
+                    starts.set(&slot, (begin * capacity + cursor) as u32);
+                    rho_acc.add(&slot, rho_sum);
+                    ksum_acc.add(&slot, kernel_sum);
+                    grad_acc.add(&slot, grad_v);
+                    cursor += fill.listed;
+                }
+            });
         });
     }
     {
@@ -433,7 +441,11 @@ fn fluid_eos<const D: usize>(
 
 /// The EOS (Eq. 18) of the wall particles from their densities (Eq. 19 with the Eq. 20 reset,
 /// [`wall_densities`]).
-pub(crate) fn wall_eos<const D: usize>(c: &PassConstants, walls: &mut Walls<D>, next_wall_density: &[f64]) {
+pub(crate) fn wall_eos<const D: usize>(
+    c: &PassConstants,
+    walls: &mut Walls<D>,
+    next_wall_density: &[f64],
+) {
     walls
         .density
         .par_iter_mut()

@@ -8,71 +8,111 @@ use crate::neighbours::CellGrid;
 use crate::sim::*;
 use rayon::prelude::*;
 
+/// The brand of one sweep: an invariant lifetime that no other sweep shares, so that a
+/// [`Slot`] of one sweep cannot index the arrays of another (a generative lifetime, as in
+/// Yanovski et al. 2021, *GhostCell*, ICFP).
+type Brand<'id> = std::marker::PhantomData<fn(&'id ()) -> &'id ()>;
+
+/// The slots `0..n_slots` of one pair sweep. Its arrays ([`Sweep::slots`]) are checked
+/// against `n_slots` once, when they are borrowed, and its blocks hand out slots below
+/// `n_slots` only, so a write needs no further check on the array's length.
+#[derive(Clone, Copy)]
+pub(crate) struct Sweep<'id> {
+    n_slots: usize,
+    _brand: Brand<'id>,
+}
+
+impl Sweep<'_> {
+    /// Runs `f` with a sweep over `n_slots` slots, under a brand of its own.
+    pub(crate) fn scope<R>(n_slots: usize, f: impl for<'id> FnOnce(Sweep<'id>) -> R) -> R {
+        f(Sweep {
+            n_slots,
+            _brand: std::marker::PhantomData,
+        })
+    }
+}
+
+impl<'id> Sweep<'id> {
+    /// The slots of `values`, borrowed for this sweep; panics if `values` is shorter than
+    /// the sweep (a broken caller, checked once per array and sweep).
+    pub(crate) fn slots<'a, T: Copy>(self, values: &'a mut [T]) -> SweepSlots<'a, 'id, T> {
+        if values.len() < self.n_slots {
+            slots_too_short(values.len(), self.n_slots);
+        }
+        SweepSlots {
+            ptr: values.as_mut_ptr(),
+            _borrow: std::marker::PhantomData,
+            _brand: std::marker::PhantomData,
+        }
+    }
+
+    /// The block of the one slot `i`, for a pass that writes each particle's slot alone;
+    /// panics if `i` is not a slot of this sweep.
+    pub(crate) fn single(self, i: usize) -> Block<'id> {
+        if i >= self.n_slots {
+            slot_outside_sweep(i, self.n_slots);
+        }
+        Block {
+            index: 0,
+            begin: i,
+            end: i + 1,
+            writable_end: i + 1,
+            _brand: std::marker::PhantomData,
+        }
+    }
+}
+
 /// A block of a [`colour_sweep`] while it runs: its slots `begin..end`, and the end of the
 /// slots it may write (its own and the next block's).
-pub(crate) struct Block {
+pub(crate) struct Block<'id> {
     /// Block number (0-based, in slot order).
     pub(crate) index: usize,
     /// First slot of the block.
     pub(crate) begin: usize,
     /// One past the last slot of the block.
     pub(crate) end: usize,
-    /// One past the last slot the block may write: the end of the next block.
+    /// One past the last slot the block may write: the end of the next block, at most the
+    /// number of slots of its sweep.
     writable_end: usize,
-    /// Slots of the whole sweep.
-    n_slots: usize,
+    _brand: Brand<'id>,
 }
 
 /// A slot the running [`Block`] may write, checked once ([`Block::slot`]) for every array
 /// of the sweep it is used with.
-pub(crate) struct Slot<'b> {
+pub(crate) struct Slot<'b, 'id> {
     index: usize,
-    n_slots: usize,
-    _block: std::marker::PhantomData<&'b Block>,
+    _block: std::marker::PhantomData<&'b Block<'id>>,
 }
 
-impl Block {
+impl<'id> Block<'id> {
     /// Slot `i` of this block or the next; panics for any other.
     #[inline(always)]
-    pub(crate) fn slot(&self, i: usize) -> Slot<'_> {
+    pub(crate) fn slot(&self, i: usize) -> Slot<'_, 'id> {
         if i < self.begin || i >= self.writable_end {
             slot_outside_block(i, self);
         }
         Slot {
             index: i,
-            n_slots: self.n_slots,
             _block: std::marker::PhantomData,
         }
     }
 }
 
-impl Block {
-    /// The one slot `i`, for a pass that writes each particle's slot alone.
-    fn single(i: usize) -> Self {
-        Block {
-            index: 0,
-            begin: i,
-            end: i + 1,
-            writable_end: i + 1,
-            n_slots: i + 1,
-        }
-    }
-}
-
 /// An array that the running blocks of a [`colour_sweep`] add to, each at the slots of its
-/// [`Block`] and the next block, which no other running block touches. Every access checks
-/// that bound, so the sweeps that use it hold no `unsafe` code.
-pub(crate) struct SweepSlots<'a, T> {
+/// [`Block`] and the next block, which no other running block touches. Made by
+/// [`Sweep::slots`], it takes the slots of its own sweep only (the brand `'id`), which lie
+/// within it, so the sweeps that use it hold no `unsafe` code.
+pub(crate) struct SweepSlots<'a, 'id, T> {
     ptr: *mut T,
-    len: usize,
     _borrow: std::marker::PhantomData<&'a mut [T]>,
+    _brand: Brand<'id>,
 }
 
 // SAFETY: a SweepSlots is only accessed at slots of the running block or the next one
 // (checked in `slot`), which no other thread touches while the block runs (`colour_sweep`);
 // the element type itself moves between threads.
-unsafe impl<T: Send> Send for SweepSlots<'_, T> {}
-unsafe impl<T: Send> Sync for SweepSlots<'_, T> {}
+unsafe impl<T: Send> Send for SweepSlots<'_, '_, T> {}
+unsafe impl<T: Send> Sync for SweepSlots<'_, '_, T> {}
 
 /// The panic of a write outside the running block (a broken sweep schedule): out of the hot
 /// path, so that the check costs one predictable branch.
@@ -85,6 +125,13 @@ fn slot_outside_block(i: usize, block: &Block) -> ! {
     )
 }
 
+/// The panic of a slot beyond the sweep.
+#[cold]
+#[inline(never)]
+fn slot_outside_sweep(i: usize, n_slots: usize) -> ! {
+    panic!("pair sweep: slot {i} outside a sweep over {n_slots}")
+}
+
 /// The panic of an array shorter than the sweep it is written by.
 #[cold]
 #[inline(never)]
@@ -92,36 +139,17 @@ fn slots_too_short(len: usize, n_slots: usize) -> ! {
     panic!("pair sweep: an array of {len} slots written by a sweep over {n_slots}")
 }
 
-impl<'a, T: Copy> SweepSlots<'a, T> {
-    /// The slots of `values`, borrowed for the sweep.
-    pub(crate) fn new(values: &'a mut [T]) -> Self {
-        SweepSlots {
-            ptr: values.as_mut_ptr(),
-            len: values.len(),
-            _borrow: std::marker::PhantomData,
-        }
-    }
-
-    /// The first slot (the closures of a sweep capture the whole `SweepSlots` through this
-    /// call, and with it its `Sync`).
+impl<'id, T: Copy> SweepSlots<'_, 'id, T> {
+    /// The element of `slot`: within this array, since the slot is below the number of
+    /// slots of the sweep (`Block::slot`, `Sweep::single`) and the array no shorter
+    /// (`Sweep::slots`), both of the sweep this array's brand names.
     #[inline(always)]
-    fn base(&self) -> *mut T {
-        self.ptr
-    }
-
-    /// The element of `slot`; panics if this array is shorter than the sweep (a check on
-    /// two numbers that do not change during a sweep).
-    #[inline(always)]
-    fn at(&self, slot: &Slot) -> *mut T {
-        if self.len < slot.n_slots {
-            slots_too_short(self.len, slot.n_slots);
-        }
+    fn at(&self, slot: &Slot<'_, 'id>) -> *mut T {
         self.ptr.wrapping_add(slot.index)
     }
-
     /// Sets `slot` to `value`.
     #[inline(always)]
-    pub(crate) fn set(&self, slot: &Slot, value: T) {
+    pub(crate) fn set(&self, slot: &Slot<'_, 'id>, value: T) {
         let p = self.at(slot);
         // SAFETY: the slot belongs to the running block or the next, which no other thread
         // accesses while this block runs (`Block::slot`), and lies within this array (`at`).
@@ -130,7 +158,7 @@ impl<'a, T: Copy> SweepSlots<'a, T> {
 
     /// Adds `value` to `slot`.
     #[inline(always)]
-    pub(crate) fn add(&self, slot: &Slot, value: T)
+    pub(crate) fn add(&self, slot: &Slot<'_, 'id>, value: T)
     where
         T: std::ops::AddAssign,
     {
@@ -141,7 +169,7 @@ impl<'a, T: Copy> SweepSlots<'a, T> {
 
     /// Subtracts `value` from `slot`.
     #[inline(always)]
-    pub(crate) fn sub(&self, slot: &Slot, value: T)
+    pub(crate) fn sub(&self, slot: &Slot<'_, 'id>, value: T)
     where
         T: std::ops::SubAssign,
     {
@@ -160,23 +188,55 @@ impl<'a, T: Copy> SweepSlots<'a, T> {
 /// threads, but without a barrier between the two colours: a thread that finds no block
 /// ready waits only for the neighbours of the next one (with two threads on 32 blocks, the
 /// barrier between colours left each thread idle ≈ 10 % of a sweep).
-pub(crate) fn colour_sweep<F: Fn(&Block) + Sync>(bounds: &[u32], block: F) {
-    colour_sweep_listing(bounds, &mut [], 0, |b, _| block(b));
+pub(crate) fn colour_sweep<'id, F: Fn(&Block<'id>) + Sync>(
+    sweep: Sweep<'id>,
+    bounds: &[u32],
+    block: F,
+) {
+    colour_sweep_listing(sweep, bounds, &mut [], 0, |b, _| block(b));
+}
+
+/// The neighbour-list entries of a [`colour_sweep_listing`], shared by its running blocks,
+/// each of which takes its own share (see there).
+struct SharedEntries(*mut u32);
+
+// SAFETY: the blocks take disjoint shares of the entries (see `colour_sweep_listing`).
+unsafe impl Sync for SharedEntries {}
+
+impl SharedEntries {
+    /// The first entry (the closures of a sweep capture the whole `SharedEntries` through
+    /// this call, and with it its `Sync`).
+    #[inline(always)]
+    fn base(&self) -> *mut u32 {
+        self.0
+    }
 }
 
 /// [`colour_sweep`] for a sweep that fills neighbour lists: each block also gets its share
 /// of `entries`, the `capacity` entries of each of its particles
 /// (`entries[begin·capacity..end·capacity]`), to pack its lists into.
-pub(crate) fn colour_sweep_listing<F: Fn(&Block, &mut [u32]) + Sync>(
+pub(crate) fn colour_sweep_listing<'id, F: Fn(&Block<'id>, &mut [u32]) + Sync>(
+    sweep: Sweep<'id>,
     bounds: &[u32],
     entries: &mut [u32],
     capacity: usize,
     block: F,
 ) {
     let n_blocks = bounds.len().saturating_sub(1);
-    let n_slots = bounds.last().map_or(0, |&b| b as usize);
-    assert!(entries.len() >= n_slots * capacity, "neighbour lists too short for the sweep");
-    let lists = SweepSlots::new(entries);
+    let n_slots = sweep.n_slots;
+    // Checked once per sweep (at most a few hundred bounds): ascending bounds make the
+    // blocks' slots and shares of the entries disjoint, and the last bound keeps every slot
+    // a block hands out within the sweep.
+    assert!(
+        bounds.windows(2).all(|w| w[0] <= w[1])
+            && bounds.last().is_none_or(|&b| b as usize <= n_slots),
+        "pair sweep: block bounds not ascending within the sweep's {n_slots} slots"
+    );
+    assert!(
+        entries.len() >= n_slots * capacity,
+        "neighbour lists too short for the sweep"
+    );
+    let lists = SharedEntries(entries.as_mut_ptr());
     let run = |b: usize| {
         let (begin, end) = (bounds[b] as usize, bounds[b + 1] as usize);
         let this = Block {
@@ -184,7 +244,7 @@ pub(crate) fn colour_sweep_listing<F: Fn(&Block, &mut [u32]) + Sync>(
             begin,
             end,
             writable_end: bounds.get(b + 2).map_or(end, |&e| e as usize),
-            n_slots,
+            _brand: std::marker::PhantomData,
         };
         let region: &mut [u32] = if capacity == 0 {
             &mut []
@@ -507,7 +567,15 @@ impl WallScatterSlots<'_> {
     /// (m²) to the wall particle's sums: m W (`rho`), (m/ρ_i) W (`kernel_sum`), and i as
     /// its nearest fluid particle if it is nearer than those seen.
     #[inline(always)]
-    pub(crate) fn add(&self, block: &Block, w: usize, rho: f64, kernel_sum: f64, r2: f64, i: u32) {
+    pub(crate) fn add(
+        &self,
+        block: &Block<'_>,
+        w: usize,
+        rho: f64,
+        kernel_sum: f64,
+        r2: f64,
+        i: u32,
+    ) {
         assert!(w < self.n_wall, "wall particle {w} out of range");
         let k = (block.index % WallScatter::SETS) * self.n_wall + w;
         // SAFETY: k < SETS · n_wall, the length of each array; no other running block
@@ -533,8 +601,25 @@ pub(crate) fn split_walls(list: &[u32]) -> (&[u32], &[u32]) {
 
 #[cfg(test)]
 mod sweep_tests {
-    use super::colour_sweep;
+    use super::{colour_sweep, Sweep};
     use std::sync::atomic::{AtomicUsize, Ordering};
+
+    /// An array shorter than its sweep is refused when it is borrowed, before any write.
+    #[test]
+    #[should_panic(expected = "an array of 3 slots written by a sweep over 4")]
+    fn an_array_shorter_than_its_sweep_is_refused() {
+        let mut short = [0.0f64; 3];
+        Sweep::scope(4, |sweep| {
+            let _ = sweep.slots(&mut short);
+        });
+    }
+
+    /// Block bounds beyond the sweep's slots are refused before any block runs.
+    #[test]
+    #[should_panic(expected = "block bounds not ascending within the sweep's 10 slots")]
+    fn blocks_beyond_the_sweep_are_refused() {
+        Sweep::scope(10, |sweep| colour_sweep(sweep, &[0, 5, 12], |_| {}));
+    }
 
     /// The schedule of `colour_sweep` on three threads: every block runs once, no two
     /// neighbouring blocks overlap in time, and an odd block starts only after both its even
@@ -553,17 +638,19 @@ mod sweep_tests {
             let start: Vec<AtomicUsize> = (0..n_blocks).map(|_| AtomicUsize::new(0)).collect();
             let end: Vec<AtomicUsize> = (0..n_blocks).map(|_| AtomicUsize::new(0)).collect();
             pool.install(|| {
-                colour_sweep(&bounds, |blk| {
-                    let (b, begin, stop) = (blk.index, blk.begin, blk.end);
-                    assert_eq!((begin, stop), (10 * b, 10 * b + 10));
-                    start[b].store(clock.fetch_add(1, Ordering::SeqCst), Ordering::SeqCst);
-                    runs[b].fetch_add(1, Ordering::SeqCst);
-                    // Some work, so that threads overlap.
-                    let mut x = b as f64;
-                    for _ in 0..20_000 {
-                        x = std::hint::black_box(x.sin());
-                    }
-                    end[b].store(clock.fetch_add(1, Ordering::SeqCst), Ordering::SeqCst);
+                Sweep::scope(10 * n_blocks, |sweep| {
+                    colour_sweep(sweep, &bounds, |blk| {
+                        let (b, begin, stop) = (blk.index, blk.begin, blk.end);
+                        assert_eq!((begin, stop), (10 * b, 10 * b + 10));
+                        start[b].store(clock.fetch_add(1, Ordering::SeqCst), Ordering::SeqCst);
+                        runs[b].fetch_add(1, Ordering::SeqCst);
+                        // Some work, so that threads overlap.
+                        let mut x = b as f64;
+                        for _ in 0..20_000 {
+                            x = std::hint::black_box(x.sin());
+                        }
+                        end[b].store(clock.fetch_add(1, Ordering::SeqCst), Ordering::SeqCst);
+                    })
                 })
             });
             let get = |v: &Vec<AtomicUsize>, b: usize| v[b].load(Ordering::SeqCst);

@@ -4,7 +4,7 @@
 //! what a fluid pair and a wall pair add; the drivers decide which pairs it sees and in
 //! which order.
 
-use super::{colour_sweep, split_walls, Block};
+use super::{colour_sweep, split_walls, Block, Sweep};
 use crate::neighbours::{CellGrid, NeighbourSearch};
 use crate::sim::{NeighbourLists, Vector, LIST_OVERFLOW, PAR_CHUNK, WALL_NEIGHBOUR};
 use crate::terms::{ForceSweep, PairFactorBatch};
@@ -12,7 +12,7 @@ use rayon::prelude::*;
 
 /// The terms of a pass over pairs, composed per scheme, evaluated by [`half_sweep`] and
 /// [`full_sweep`].
-pub(crate) trait PairInteraction<'a, const D: usize>: Sync {
+pub(crate) trait PairInteraction<'a, 'id, const D: usize>: Sync {
     /// What a particle reads of itself once per row of pairs.
     type Owner;
     /// Its running sums over its pairs.
@@ -37,18 +37,25 @@ pub(crate) trait PairInteraction<'a, const D: usize>: Sync {
         xij: Vector<D>,
         r: f64,
         factors: (f64, f64, f64),
-        block: &Block,
+        block: &Block<'id>,
     );
     /// A pair of fluid particle i and wall particle `w` within the support, at
     /// x_iw = x_i − x_w, squared distance `r2` (m²).
-    fn wall_pair(&self, owner: &Self::Owner, sums: &mut Self::Sums, w: usize, xiw: Vector<D>, r2: f64);
+    fn wall_pair(
+        &self,
+        owner: &Self::Owner,
+        sums: &mut Self::Sums,
+        w: usize,
+        xiw: Vector<D>,
+        r2: f64,
+    );
     /// Writes i's sums: added to the shares the half sweep scattered (`HALF`), or set.
-    fn finish<const HALF: bool>(&self, i: usize, sums: Self::Sums, block: &Block);
+    fn finish<const HALF: bool>(&self, i: usize, sums: Self::Sums, block: &Block<'id>);
 }
 
 /// A fluid pair found by a search or a forward range: its pair factors computed on their own.
 #[inline(always)]
-fn unbatched_pair<'a, const D: usize, P: PairInteraction<'a, D>, const HALF: bool>(
+fn unbatched_pair<'a, 'id, const D: usize, P: PairInteraction<'a, 'id, D>, const HALF: bool>(
     p: &P,
     owner: &P::Owner,
     sums: &mut P::Sums,
@@ -56,7 +63,7 @@ fn unbatched_pair<'a, const D: usize, P: PairInteraction<'a, D>, const HALF: boo
     j: usize,
     xij: Vector<D>,
     r2: f64,
-    block: &Block,
+    block: &Block<'id>,
 ) {
     let m = p.momentum();
     let factors = m.pair_factors(r2, rho_i + m.rho[j]);
@@ -67,8 +74,9 @@ fn unbatched_pair<'a, const D: usize, P: PairInteraction<'a, D>, const HALF: boo
 /// each particle takes the pairs of the forward half of its stencil and its wall
 /// neighbours, from `lists` (the half lists of a sweep on the same positions, their pair
 /// factors computed a batch at a time) or, without lists or for a particle whose list
-/// overflowed, from the grid.
-pub(crate) fn half_sweep<'a, const D: usize, P: PairInteraction<'a, D>>(
+/// overflowed, from the grid. `sweep` covers the fluid particles.
+pub(crate) fn half_sweep<'a, 'id, const D: usize, P: PairInteraction<'a, 'id, D>>(
+    sweep: Sweep<'id>,
     grid: &CellGrid<D>,
     blocks: &[u32],
     lists: Option<&NeighbourLists>,
@@ -77,7 +85,7 @@ pub(crate) fn half_sweep<'a, const D: usize, P: PairInteraction<'a, D>>(
 ) {
     let m = p.momentum();
     let (pos, wall_pos) = (m.pos, m.wall_pos);
-    colour_sweep(blocks, |block| {
+    colour_sweep(sweep, blocks, |block| {
         let mut batch = PairFactorBatch::new();
         for i in block.begin..block.end {
             let (o, xi, rho_i) = p.owner(i);
@@ -106,7 +114,9 @@ pub(crate) fn half_sweep<'a, const D: usize, P: PairInteraction<'a, D>>(
                         let xij = xi - xj;
                         let r2 = xij.norm_squared();
                         if r2 < support_sq {
-                            unbatched_pair::<D, P, true>(p, &o, &mut sums, rho_i, j, xij, r2, block);
+                            unbatched_pair::<D, P, true>(
+                                p, &o, &mut sums, rho_i, j, xij, r2, block,
+                            );
                         }
                     }
                 });
@@ -126,7 +136,14 @@ pub(crate) fn half_sweep<'a, const D: usize, P: PairInteraction<'a, D>>(
 /// Every pair from both of its particles, each adding its own share: the candidates of
 /// `search`, or the lists a density pass filled on the same positions (`lists`: the same
 /// neighbours in the same order as a search).
-pub(crate) fn full_sweep<'a, const D: usize, S: NeighbourSearch<D>, P: PairInteraction<'a, D>>(
+pub(crate) fn full_sweep<
+    'a,
+    'id,
+    const D: usize,
+    S: NeighbourSearch<D>,
+    P: PairInteraction<'a, 'id, D>,
+>(
+    sweep: Sweep<'id>,
     search: &S,
     lists: Option<&NeighbourLists>,
     support_sq: f64,
@@ -139,7 +156,7 @@ pub(crate) fn full_sweep<'a, const D: usize, S: NeighbourSearch<D>, P: PairInter
         .with_min_len(PAR_CHUNK)
         .for_each(|i| {
             // The particle's own slot: the only one a full sweep writes for it.
-            let block = Block::single(i);
+            let block = sweep.single(i);
             let (o, xi, rho_i) = p.owner(i);
             let mut sums = p.start(&o, false);
             let fluid_pair = |sums: &mut P::Sums, j: usize| {

@@ -1,7 +1,7 @@
 //! The momentum, continuity, density-diffusion and shifting terms of one pair, evaluated together.
 
 use crate::sim::*;
-use crate::sweep::{Block, PairInteraction, SweepSlots};
+use crate::sweep::{Block, PairInteraction, Sweep, SweepSlots};
 use crate::terms::*;
 
 /// The density rate of the coupled pass, chosen once per run: none (summation density), or
@@ -198,7 +198,9 @@ impl<'a, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool
         let c = &self.base.c;
         let m = c.mass;
         // Eq. 8: the paper's pair term.
-        let acc = self.base.fluid_term_with(&o.f, j, xij, (f, inv_s, inv_rho_mean));
+        let acc = self
+            .base
+            .fluid_term_with(&o.f, j, xij, (f, inv_s, inv_rho_mean));
         let grad_w = xij * f;
         let volume_j = m * self.base.inv_rho[j];
         let (mut drho_i, mut drho_j) = (0.0, 0.0);
@@ -347,46 +349,52 @@ impl<const D: usize> OwnerSums<D> {
 /// sweep the momentum term and the shifting gradient are antisymmetric in i and j, the
 /// continuity term symmetric, and the diffusion term of j is that of i with i and j
 /// exchanged.
-pub(crate) struct Coupled<'a, const D: usize, R, W, const SHIFT: bool> {
+pub(crate) struct Coupled<'a, 'id, const D: usize, R, W, const SHIFT: bool> {
     terms: ModernPairTerms<'a, D, R, W, SHIFT>,
-    acceleration: SweepSlots<'a, Vector<D>>,
-    density_rate: SweepSlots<'a, f64>,
-    shift_gradient: SweepSlots<'a, Vector<D>>,
-    shift_kernel_sum: SweepSlots<'a, f64>,
+    acceleration: SweepSlots<'a, 'id, Vector<D>>,
+    density_rate: SweepSlots<'a, 'id, f64>,
+    /// With `SHIFT`, the shifting gradient ∇C (1/m) and kernel sum (their arrays are empty
+    /// without shifting).
+    shifting: Option<(SweepSlots<'a, 'id, Vector<D>>, SweepSlots<'a, 'id, f64>)>,
     /// W(0), a particle's own share of its kernel sum.
     w0: f64,
     body_force: Vector<D>,
 }
 
-impl<'a, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool>
-    Coupled<'a, D, R, W, SHIFT>
+impl<'a, 'id, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool>
+    Coupled<'a, 'id, D, R, W, SHIFT>
 {
     /// The pass over `fluid`, `walls` and the stage buffers `st`, writing the acceleration
     /// (m/s², body force included), dρ/dt (kg/(m³·s)) and, with shifting, ∇C (1/m) and the
-    /// kernel sum into `out`. A half sweep adds to `out`, which must hold the body force and
-    /// zeros already.
+    /// kernel sum into `out`, whose arrays become slots of `sweep`. A half sweep adds to
+    /// `out`, which must hold the body force and zeros already.
     pub(crate) fn new(
         c: &PassConstants,
         fluid: &'a Fluid<D>,
         walls: &'a Walls<D>,
         st: &'a StageBuffers<D>,
         out: &'a mut ForceOutputs<D>,
+        sweep: Sweep<'id>,
         body_force: Vector<D>,
     ) -> Self {
         Coupled {
             terms: ModernPairTerms::new(c, fluid, walls, st),
-            acceleration: SweepSlots::new(&mut out.acceleration),
-            density_rate: SweepSlots::new(&mut out.density_rate),
-            shift_gradient: SweepSlots::new(&mut out.shift_gradient),
-            shift_kernel_sum: SweepSlots::new(&mut out.shift_kernel_sum),
+            acceleration: sweep.slots(&mut out.acceleration),
+            density_rate: sweep.slots(&mut out.density_rate),
+            shifting: SHIFT.then(|| {
+                (
+                    sweep.slots(&mut out.shift_gradient),
+                    sweep.slots(&mut out.shift_kernel_sum),
+                )
+            }),
             w0: c.kernel.value(0.0),
             body_force,
         }
     }
 }
 
-impl<'a, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool>
-    PairInteraction<'a, D> for Coupled<'a, D, R, W, SHIFT>
+impl<'a, 'id, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool>
+    PairInteraction<'a, 'id, D> for Coupled<'a, 'id, D, R, W, SHIFT>
 {
     type Owner = ModernOwner<D>;
     type Sums = OwnerSums<D>;
@@ -428,7 +436,7 @@ impl<'a, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool
         xij: Vector<D>,
         r: f64,
         factors: (f64, f64, f64),
-        block: &Block,
+        block: &Block<'id>,
     ) {
         let pair = self.terms.fluid_pair(o, j, xij, r, factors);
         sums.add_fluid::<SHIFT>(&pair);
@@ -436,9 +444,9 @@ impl<'a, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool
             let slot = block.slot(j);
             self.acceleration.sub(&slot, pair.acc);
             self.density_rate.add(&slot, pair.drho_j);
-            if SHIFT {
-                self.shift_gradient.sub(&slot, pair.grad_w * o.volume);
-                self.shift_kernel_sum.add(&slot, o.volume * pair.w);
+            if let (true, Some((grad_c, ksum))) = (SHIFT, &self.shifting) {
+                grad_c.sub(&slot, pair.grad_w * o.volume);
+                ksum.add(&slot, o.volume * pair.w);
             }
         }
     }
@@ -456,21 +464,21 @@ impl<'a, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool
     }
 
     #[inline(always)]
-    fn finish<const HALF: bool>(&self, i: usize, sums: OwnerSums<D>, block: &Block) {
+    fn finish<const HALF: bool>(&self, i: usize, sums: OwnerSums<D>, block: &Block<'id>) {
         let slot = block.slot(i);
         if HALF {
             self.acceleration.add(&slot, sums.acc);
             self.density_rate.add(&slot, sums.drho);
-            if SHIFT {
-                self.shift_gradient.add(&slot, sums.grad_c);
-                self.shift_kernel_sum.add(&slot, sums.ksum);
+            if let (true, Some((grad_c, ksum))) = (SHIFT, &self.shifting) {
+                grad_c.add(&slot, sums.grad_c);
+                ksum.add(&slot, sums.ksum);
             }
         } else {
             self.acceleration.set(&slot, sums.acc + self.body_force);
             self.density_rate.set(&slot, sums.drho);
-            if SHIFT {
-                self.shift_gradient.set(&slot, sums.grad_c);
-                self.shift_kernel_sum.set(&slot, sums.ksum);
+            if let (true, Some((grad_c, ksum))) = (SHIFT, &self.shifting) {
+                grad_c.set(&slot, sums.grad_c);
+                ksum.set(&slot, sums.ksum);
             }
         }
     }

@@ -246,13 +246,13 @@ impl<'a, const D: usize> ForceSweep<'a, D> {
 
 /// The momentum equation alone (Eq. 8–16) as a pass over pairs: the paper's force pass.
 /// Dynamic wall particles enter as fluid particles at rest (paper §2.5).
-pub(crate) struct Momentum<'a, const D: usize> {
+pub(crate) struct Momentum<'a, 'id, const D: usize> {
     terms: ForceSweep<'a, D>,
-    acceleration: SweepSlots<'a, Vector<D>>,
+    acceleration: SweepSlots<'a, 'id, Vector<D>>,
     body_force: Vector<D>,
 }
 
-impl<'a, const D: usize> Momentum<'a, D> {
+impl<'a, 'id, const D: usize> Momentum<'a, 'id, D> {
     /// The pass over `fluid` and `walls` writing `acceleration` (m/s²), with the body force
     /// (gravity and the ground acceleration's inertia force) added to every particle. A half
     /// sweep adds to `acceleration`, which must hold the body force already.
@@ -260,18 +260,18 @@ impl<'a, const D: usize> Momentum<'a, D> {
         c: &PassConstants,
         fluid: &'a Fluid<D>,
         walls: &'a Walls<D>,
-        acceleration: &'a mut [Vector<D>],
+        acceleration: SweepSlots<'a, 'id, Vector<D>>,
         body_force: Vector<D>,
     ) -> Self {
         Momentum {
             terms: ForceSweep::new(c, fluid, walls),
-            acceleration: SweepSlots::new(acceleration),
+            acceleration,
             body_force,
         }
     }
 }
 
-impl<'a, const D: usize> PairInteraction<'a, D> for Momentum<'a, D> {
+impl<'a, 'id, const D: usize> PairInteraction<'a, 'id, D> for Momentum<'a, 'id, D> {
     type Owner = ForceOwner<D>;
     type Sums = Vector<D>;
 
@@ -304,7 +304,7 @@ impl<'a, const D: usize> PairInteraction<'a, D> for Momentum<'a, D> {
         xij: Vector<D>,
         _r: f64,
         factors: (f64, f64, f64),
-        block: &Block,
+        block: &Block<'id>,
     ) {
         // Antisymmetric: ∇_j W_ji = −∇_i W_ij, every other factor symmetric in i and j.
         let term = self.terms.fluid_term_with(o, j, xij, factors);
@@ -321,7 +321,7 @@ impl<'a, const D: usize> PairInteraction<'a, D> for Momentum<'a, D> {
     }
 
     #[inline(always)]
-    fn finish<const HALF: bool>(&self, i: usize, acc: Vector<D>, block: &Block) {
+    fn finish<const HALF: bool>(&self, i: usize, acc: Vector<D>, block: &Block<'id>) {
         if HALF {
             self.acceleration.add(&block.slot(i), acc);
         } else {
