@@ -1273,8 +1273,90 @@ mod tests {
             layout: "offset".into(),
             tilt: 0.0,
             tilt_shape: "plane".into(),
+            solids: Vec::new(),
         };
         assert!(Resolution::PerRadius(10.0).spacing_for(&rect).is_err());
+    }
+
+    #[test]
+    fn solids_and_named_parts_are_read() {
+        let map = |pairs: Vec<(&str, Dynamic)>| -> Map {
+            pairs.into_iter().map(|(k, v)| (k.into(), v)).collect()
+        };
+        let point = |x: f64, y: f64| Dynamic::from(vec![Dynamic::from(x), Dynamic::from(y)]);
+        let square = Dynamic::from(vec![
+            point(0.0, 0.0),
+            point(1.0, 0.0),
+            point(1.0, 1.0),
+            point(0.0, 1.0),
+        ]);
+        let plate = Dynamic::from(map(vec![
+            ("name", Dynamic::from("baffle")),
+            ("shape", Dynamic::from("plate")),
+            ("centre", point(0.5, 0.3)),
+            ("length", Dynamic::from(0.4)),
+            ("thickness", Dynamic::from(0.05)),
+            ("angle", Dynamic::from(30_i64)),
+        ]));
+        let column = Dynamic::from(map(vec![
+            ("name", Dynamic::from("column")),
+            ("shape", Dynamic::from("circle")),
+            ("centre", point(0.2, 0.2)),
+            ("radius", Dynamic::from(0.05)),
+        ]));
+        let parts = Dynamic::from(map(vec![(
+            "floor",
+            Dynamic::from(vec![Dynamic::from(0_i64), Dynamic::from(0_i64)]),
+        )]));
+        let spec = TankSpec::from_map_checked(&map(vec![
+            ("shape", Dynamic::from("polygon")),
+            ("outline", square.clone()),
+            ("depth", Dynamic::from(0.5)),
+            ("solids", Dynamic::from(vec![plate.clone(), column])),
+            ("parts", parts),
+        ]))
+        .unwrap();
+        let tank = spec.section_tank().unwrap().unwrap();
+        assert_eq!(
+            tank.solids,
+            vec![
+                Solid2::plate("baffle", [0.5, 0.3], 0.4, 0.05, 30.0),
+                Solid2::circle("column", [0.2, 0.2], 0.05)
+            ]
+        );
+        assert_eq!(tank.named_sides, vec![("floor".to_string(), [0, 0])]);
+        let names: Vec<String> = spec.part_descriptions().into_iter().map(|p| p.0).collect();
+        assert_eq!(
+            names,
+            ["bottom", "wall", "roof", "floor", "baffle", "column"]
+        );
+        // a flat-roofed rectangle with a solid is built as a section; an open one is refused
+        let rect =
+            TankSpec::from_map_checked(&map(vec![("solids", Dynamic::from(vec![plate.clone()]))]))
+                .unwrap();
+        assert!(rect.section_tank().unwrap().is_some());
+        let err = TankSpec::from_map_checked(&map(vec![
+            ("roof", Dynamic::from(false)),
+            ("solids", Dynamic::from(vec![plate])),
+        ]))
+        .unwrap_err();
+        assert!(err.contains("closed 2D section"), "{err}");
+        // unknown solid shapes, missing keys and bad side ranges are named
+        let cone = Dynamic::from(map(vec![
+            ("name", Dynamic::from("x")),
+            ("shape", Dynamic::from("cone")),
+        ]));
+        let err = TankSpec::from_map_checked(&map(vec![("solids", Dynamic::from(vec![cone]))]))
+            .unwrap_err();
+        assert!(err.contains("solids[0]") && err.contains("plate"), "{err}");
+        let bad_parts = Dynamic::from(map(vec![("sump", Dynamic::from(3_i64))]));
+        let err = TankSpec::from_map_checked(&map(vec![
+            ("shape", Dynamic::from("polygon")),
+            ("outline", square),
+            ("parts", bad_parts),
+        ]))
+        .unwrap_err();
+        assert!(err.contains("parts.sump"), "{err}");
     }
 
     #[test]
