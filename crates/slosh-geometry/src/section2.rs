@@ -482,14 +482,21 @@ impl SectionTank2 {
 
     /// Builds the initial particles for spacing `dx` (m) on the lattice ((i+½)dx, (j+½)dx):
     ///
-    /// * fluid: lattice points inside the outline below the (tilted) still level;
-    /// * walls: lattice points outside within `layers`·dx (+10⁻⁶ dx) of the outline, layer =
-    ///   ⌈distance/dx⌉; part and normal (out of the liquid) of the nearest side; at a vertex
-    ///   where two parts meet, the part of the nearer side line, ties to roof over wall over
-    ///   bottom; at a vertex of one part, the normal points from the vertex to the particle;
+    /// * fluid: lattice points inside the outline and outside every solid, below the (tilted)
+    ///   still level;
+    /// * walls: lattice points outside the outline, or inside a solid, within `layers`·dx
+    ///   (+10⁻⁶ dx) of that outline (a solid's only where its nearest surface point lies inside
+    ///   the tank); a point that qualifies for both takes the nearer; layer = ⌈distance/dx⌉;
+    ///   part and normal (out of the liquid) of the nearest side; at a vertex where two parts
+    ///   meet, the part of the nearer side line, ties to roof over wall over bottom; at a
+    ///   vertex of one part, the normal points from the vertex to the particle;
     /// * area (m per m of depth): each part's sides are sampled at ≤ dx/2, each sample's length
-    ///   goes to the nearest innermost-layer particle of that part, and the areas of each part
-    ///   are scaled to add up to its exact length ([`SectionOutline::part_lengths`]).
+    ///   goes to the nearest innermost-layer particle of that part (a solid's: of those whose
+    ///   normal is within 45° of the side's), and the areas of each part are scaled to add up
+    ///   to its exact length ([`SectionOutline::part_lengths`]; a solid's: its exact
+    ///   perimeter). With solids, only wetted samples count — the liquid side of the sample
+    ///   inside the tank and outside every other solid — and each part's total is its exact
+    ///   length times the wetted fraction of its samples.
     pub fn build(&self, dx: f64) -> Result<ParticleSetup<2>, GeometryError> {
         check_positive("fill depth", self.fill_depth)?;
         check_finite("initial tilt", self.initial_tilt)?;
