@@ -784,9 +784,9 @@ impl SectionTank2 {
         let mut target = outline.part_lengths();
         target.resize(n_parts, 0.0);
         if !solids.is_empty() {
-            for p in 0..n_parts {
-                if tank_full[p] > 0.0 {
-                    target[p] *= tank_wet[p] / tank_full[p];
+            for ((t, full), wet) in target.iter_mut().zip(&tank_full).zip(&tank_wet) {
+                if *full > 0.0 {
+                    *t *= wet / full;
                 }
             }
         }
