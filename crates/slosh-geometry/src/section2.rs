@@ -761,7 +761,7 @@ impl SectionTank2 {
         // the tank's sides: a sample covered by a solid (just inside the liquid) is not wetted
         let mut tank_full = vec![0.0; n_parts];
         let mut tank_wet = vec![0.0; n_parts];
-        for k in 0..n_sides {
+        for (k, &normal) in normals.iter().enumerate() {
             let part = outline.side_part[k];
             let (a, b) = (outline.vertices[k], outline.vertices[(k + 1) % n_sides]);
             let (a, b) = (PVec2::new(a[0], a[1]), PVec2::new(b[0], b[1]));
@@ -771,7 +771,7 @@ impl SectionTank2 {
             for m in 0..pieces {
                 let s = a + (b - a) * ((m as f64 + 0.5) / pieces as f64);
                 tank_full[part as usize] += piece;
-                if !solids.is_empty() && in_other_solid(s - normals[k] * (1e-3 * dx), None) {
+                if !solids.is_empty() && in_other_solid(s - normal * (1e-3 * dx), None) {
                     continue;
                 }
                 tank_wet[part as usize] += piece;
