@@ -7,7 +7,9 @@
 //!   [`InternalSolid`]s (columns, baffle rings).
 //! * [`SectionTank2`]: any other 2D section: a rectangle with a cone, dome or polyline roof
 //!   ([`SectionRoof`]), a simple polygon, or a circle (horizontal cylindrical tank), built by
-//!   the 2D form of the 3D rules below with the outline as a parry2d `Polyline`.
+//!   the 2D form of the 3D rules below with the outline as a parry2d `Polyline`; fixed
+//!   [`Solid2`]s inside it (plate baffles, circular columns, polygons) with wall particles in
+//!   layers inside each solid, in a part of the solid's name.
 //! * [`BoxTank`]: a 3D rectangular box, to compare 2D and 3D runs.
 //! * [`SphereTank`]: a spherical tank, parts by the way its surface faces.
 //! * [`SurfaceMesh`]: OBJ/STL reading, OBJ writing, closedness checks, procedural meshes
@@ -48,6 +50,7 @@ mod lattice;
 mod mesh;
 mod rect2;
 mod section2;
+mod solid2;
 mod tank3;
 
 /// Shape of the initial free surface of a free-decay test (`initial_tilt` ≠ 0). Both keep the
@@ -83,6 +86,7 @@ pub use rect2::{Layout, RectInterior2, RectLattice2, RectTank2};
 pub use section2::{
     bounding_box_2d, SectionOutline, SectionRegion2, SectionRoof, SectionShape, SectionTank2,
 };
+pub use solid2::{Solid2, Solid2Shape};
 pub use tank3::{BoxTank, CylinderTank, InternalSolid, Roof, SolidShape, SphereTank, TankRegion3};
 
 /// Writes the closed interior surface of a cylinder of `radius` and `shell_height` (m) with

@@ -14,6 +14,7 @@ use slosh_core::{ParticleSetup, TankInterior, PART_BOTTOM, PART_ROOF, PART_WALL}
 use crate::error::{check_finite, check_layers, check_positive, GeometryError, MAX_PARTICLES};
 use crate::lattice::{cell_of, lattice_rows_below, part_priority, scale_areas_to_part_totals};
 use crate::mesh::circle_segments;
+use crate::solid2::{check_part_name, Solid2};
 use crate::tank3::{dome_arc_length, dome_profile, TiltShape};
 
 /// The roof of a rectangular 2D section other than flat or none (those are [`crate::RectTank2`]).
@@ -81,26 +82,37 @@ pub struct SectionTank2 {
     /// Shape of the tilted surface (plane by default; the first mode is the rectangle's
     /// cos(πξ) over the outline's width).
     pub initial_shape: crate::InitialSurface,
+    /// Fixed solids inside the section (baffles, columns), each in a part of its name.
+    pub solids: Vec<Solid2>,
+    /// Parts named by the user on a [`SectionShape::Polygon`]: a part name and the first and
+    /// last side it covers (side k joins vertex k to vertex k+1 in the order given, the last
+    /// side back to vertex 0; first > last wraps around past the last side). The names
+    /// `bottom`, `wall` and `roof` put those sides in that built-in part; sides not named keep
+    /// the part of the way they face.
+    pub named_sides: Vec<(String, [usize; 2])>,
 }
 
 /// A closed outline ready for particles: counter-clockwise vertices (m), the part of each side
-/// (side k joins vertex k to vertex k+1, the last side back to vertex 0), and the exact length
-/// of each built-in part (bottom, wall, roof) where the sides only approximate a curve.
+/// (side k joins vertex k to vertex k+1, the last side back to vertex 0), the part names, and
+/// the exact length of each built-in part (bottom, wall, roof) where the sides only
+/// approximate a curve.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SectionOutline {
     /// Counter-clockwise vertices (m).
     pub vertices: Vec<[f64; 2]>,
-    /// Part index of each side (0 bottom, 1 wall, 2 roof).
+    /// Part index of each side (0 bottom, 1 wall, 2 roof, then the parts named by the user).
     pub side_part: Vec<u16>,
+    /// Name of each part: `bottom`, `wall`, `roof`, then the parts named by the user.
+    pub part_names: Vec<String>,
     /// Exact length of each built-in part (m) where known in closed form; otherwise the sides'
     /// lengths are exact.
     pub exact_length: [Option<f64>; 3],
 }
 
 impl SectionOutline {
-    /// Total length of the sides of each built-in part (bottom, wall, roof) (m).
-    pub fn side_lengths(&self) -> [f64; 3] {
-        let mut total = [0.0; 3];
+    /// Total length of the sides of each part (m), indexed as [`SectionOutline::part_names`].
+    pub fn side_lengths(&self) -> Vec<f64> {
+        let mut total = vec![0.0; self.part_names.len()];
         let n = self.vertices.len();
         for k in 0..n {
             let (a, b) = (self.vertices[k], self.vertices[(k + 1) % n]);
@@ -111,9 +123,17 @@ impl SectionOutline {
 
     /// Length each part's particle areas add up to (m): the exact length where known, else
     /// the sides' length.
-    pub fn part_lengths(&self) -> [f64; 3] {
+    pub fn part_lengths(&self) -> Vec<f64> {
         let sides = self.side_lengths();
-        std::array::from_fn(|p| self.exact_length[p].unwrap_or(sides[p]))
+        (0..sides.len())
+            .map(|p| {
+                self.exact_length
+                    .get(p)
+                    .copied()
+                    .flatten()
+                    .unwrap_or(sides[p])
+            })
+            .collect()
     }
 
     /// Lowest and highest corner of the bounding box (m).
@@ -252,7 +272,22 @@ impl SectionTank2 {
             layers: 3,
             initial_tilt: 0.0,
             initial_shape: crate::InitialSurface::Plane,
+            solids: Vec::new(),
+            named_sides: Vec::new(),
         }
+    }
+
+    /// Adds a fixed solid inside the section.
+    pub fn with_solid(mut self, solid: Solid2) -> Self {
+        self.solids.push(solid);
+        self
+    }
+
+    /// Names the sides `first..=last` of a polygon outline as part `name` (see
+    /// [`SectionTank2::named_sides`]).
+    pub fn with_named_sides(mut self, name: &str, first: usize, last: usize) -> Self {
+        self.named_sides.push((name.to_string(), [first, last]));
+        self
     }
 
     /// Sets the number of wall layers.
@@ -286,7 +321,11 @@ impl SectionTank2 {
         } else {
             1.0
         };
-        self.outline(dx).map(|_| ())
+        self.outline(dx)?;
+        for s in &self.solids {
+            s.check_shape()?;
+        }
+        Ok(())
     }
 
     /// The closed outline for spacing `dx` (m): curves (dome roof, circle) are polygons with
@@ -294,6 +333,14 @@ impl SectionTank2 {
     pub fn outline(&self, dx: f64) -> Result<SectionOutline, GeometryError> {
         check_positive("particle spacing dx", dx)?;
         let sag = 1e-3 * dx;
+        if !self.named_sides.is_empty() && !matches!(self.shape, SectionShape::Polygon(_)) {
+            return Err(GeometryError::InvalidShape(
+                "tank parts: parts named by side ranges are for polygon outlines \
+                 (shape \"polygon\")"
+                    .into(),
+            ));
+        }
+        let builtin = || vec![PART_BOTTOM.to_string(), PART_WALL.into(), PART_ROOF.into()];
         match &self.shape {
             SectionShape::RoofedRect {
                 width,
@@ -351,19 +398,61 @@ impl SectionTank2 {
                 Ok(SectionOutline {
                     vertices,
                     side_part,
+                    part_names: builtin(),
                     exact_length: [Some(w), Some(2.0 * h), roof_length],
                 })
             }
             SectionShape::Polygon(points) => {
                 let vertices = simple_ccw_polygon("tank outline", points)?;
+                let n = vertices.len();
+                // side k as given is side n−2−k (mod n) of the reversed (counter-clockwise) list
+                let reversed = vertices[0] != points[0];
+                let ccw_side = |k: usize| if reversed { (2 * n - 2 - k) % n } else { k };
                 let mut outline = SectionOutline {
-                    side_part: vec![1; vertices.len()],
+                    side_part: vec![1; n],
                     vertices,
+                    part_names: builtin(),
                     exact_length: [None; 3],
                 };
-                outline.side_part = (0..outline.vertices.len())
+                outline.side_part = (0..n)
                     .map(|k| part_by_facing(outline.outward_normal(k)))
                     .collect();
+                let mut named_by: Vec<Option<&str>> = vec![None; n];
+                for (name, [first, last]) in &self.named_sides {
+                    let bad = |m: String| {
+                        GeometryError::InvalidShape(format!("tank parts: part '{name}' {m}"))
+                    };
+                    check_part_name("tank parts", name)?;
+                    if *first >= n || *last >= n {
+                        return Err(bad(format!(
+                            "names sides {first} to {last}, but the outline has sides 0 to {} \
+                             (side k joins point k to point k+1, the last back to point 0)",
+                            n - 1
+                        )));
+                    }
+                    let part = match outline.part_names.iter().position(|p| p == name) {
+                        Some(p) => p,
+                        None => {
+                            outline.part_names.push(name.clone());
+                            outline.part_names.len() - 1
+                        }
+                    } as u16;
+                    let count = if last >= first {
+                        last - first + 1
+                    } else {
+                        n - first + last + 1
+                    };
+                    for m in 0..count {
+                        let k = (first + m) % n;
+                        if let Some(other) = named_by[k] {
+                            return Err(bad(format!(
+                                "names side {k}, already named by part '{other}'"
+                            )));
+                        }
+                        named_by[k] = Some(name);
+                        outline.side_part[ccw_side(k)] = part;
+                    }
+                }
                 Ok(outline)
             }
             SectionShape::Circle { radius } => {
@@ -380,6 +469,7 @@ impl SectionTank2 {
                 let mut outline = SectionOutline {
                     vertices,
                     side_part: vec![1; n],
+                    part_names: builtin(),
                     exact_length: [Some(0.5 * PI * r), Some(PI * r), Some(0.5 * PI * r)],
                 };
                 outline.side_part = (0..n)
@@ -392,14 +482,21 @@ impl SectionTank2 {
 
     /// Builds the initial particles for spacing `dx` (m) on the lattice ((i+½)dx, (j+½)dx):
     ///
-    /// * fluid: lattice points inside the outline below the (tilted) still level;
-    /// * walls: lattice points outside within `layers`·dx (+10⁻⁶ dx) of the outline, layer =
-    ///   ⌈distance/dx⌉; part and normal (out of the liquid) of the nearest side; at a vertex
-    ///   where two parts meet, the part of the nearer side line, ties to roof over wall over
-    ///   bottom; at a vertex of one part, the normal points from the vertex to the particle;
+    /// * fluid: lattice points inside the outline and outside every solid, below the (tilted)
+    ///   still level;
+    /// * walls: lattice points outside the outline, or inside a solid, within `layers`·dx
+    ///   (+10⁻⁶ dx) of that outline (a solid's only where its nearest surface point lies inside
+    ///   the tank); a point that qualifies for both takes the nearer; layer = ⌈distance/dx⌉;
+    ///   part and normal (out of the liquid) of the nearest side; at a vertex where two parts
+    ///   meet, the part of the nearer side line, ties to roof over wall over bottom; at a
+    ///   vertex of one part, the normal points from the vertex to the particle;
     /// * area (m per m of depth): each part's sides are sampled at ≤ dx/2, each sample's length
-    ///   goes to the nearest innermost-layer particle of that part, and the areas of each part
-    ///   are scaled to add up to its exact length ([`SectionOutline::part_lengths`]).
+    ///   goes to the nearest innermost-layer particle of that part (a solid's: of those whose
+    ///   normal is within 45° of the side's), and the areas of each part are scaled to add up
+    ///   to its exact length ([`SectionOutline::part_lengths`]; a solid's: its exact
+    ///   perimeter). With solids, only wetted samples count — the liquid side of the sample
+    ///   inside the tank and outside every other solid — and each part's total is its exact
+    ///   length times the wetted fraction of its samples.
     pub fn build(&self, dx: f64) -> Result<ParticleSetup<2>, GeometryError> {
         check_positive("fill depth", self.fill_depth)?;
         check_finite("initial tilt", self.initial_tilt)?;
@@ -471,6 +568,27 @@ impl SectionTank2 {
         let normals: Vec<PVec2> = (0..n_sides).map(|k| outline.outward_normal(k)).collect();
         let point = |i: i64, j: i64| PVec2::new((i as f64 + 0.5) * dx, (j as f64 + 0.5) * dx);
         let to_na = |v: PVec2| Vector2::new(v.x, v.y);
+        let tank_contains = |x: PVec2| {
+            polyline
+                .project_local_point_assuming_solid_interior_ccw(x)
+                .0
+                .is_inside
+        };
+
+        // the internal solids, each in the part of its name
+        let mut part_names = outline.part_names.clone();
+        let mut solids: Vec<SolidBoundary> = Vec::with_capacity(self.solids.len());
+        for s in &self.solids {
+            let (vertices, perimeter) = s.outline(dx)?;
+            let part = match part_names.iter().position(|n| *n == s.name) {
+                Some(p) => p,
+                None => {
+                    part_names.push(s.name.clone());
+                    part_names.len() - 1
+                }
+            } as u16;
+            solids.push(SolidBoundary::new(&s.name, vertices, part, perimeter));
+        }
 
         let mut setup = ParticleSetup {
             spacing: dx,
@@ -480,12 +598,13 @@ impl SectionTank2 {
             wall_normal: Vec::new(),
             wall_area: Vec::new(),
             wall_layer: Vec::new(),
-            part_names: vec![PART_BOTTOM.into(), PART_WALL.into(), PART_ROOF.into()],
+            part_names: part_names.clone(),
             interior_min: Vector2::new(lo[0], lo[1]),
             interior_max: Vector2::new(hi[0], hi[1]),
             fill_level,
             interior: Box::new(SectionRegion2 {
                 polyline: polyline.clone(),
+                solids: solids.iter().map(|s| s.polyline.clone()).collect(),
             }),
         };
         // innermost-layer wall particle at each lattice cell, for the area assignment
@@ -495,42 +614,82 @@ impl SectionTank2 {
                 let x = point(i, j);
                 let (proj, (side, location)) =
                     polyline.project_local_point_assuming_solid_interior_ccw(x);
-                if proj.is_inside {
+                // inside a solid; the nearest solid surface inside the tank within reach
+                let mut in_solid = false;
+                let mut near_solid: Option<(f64, usize, u32, SegmentPointLocation, PVec2)> = None;
+                for (si, b) in solids.iter().enumerate() {
+                    if !b.near(x, reach) {
+                        continue;
+                    }
+                    let (sp, (s_side, s_loc)) = b
+                        .polyline
+                        .project_local_point_assuming_solid_interior_ccw(x);
+                    if !sp.is_inside {
+                        continue;
+                    }
+                    in_solid = true;
+                    let d = (x - sp.point).length();
+                    if d <= reach && near_solid.is_none_or(|n| d < n.0) && tank_contains(sp.point) {
+                        near_solid = Some((d, si, s_side, s_loc, sp.point));
+                    }
+                }
+                if proj.is_inside && !in_solid {
                     if x.y < fill_level + tilt * tilt_shape.at(x.x, 0.0) {
                         setup.fluid_positions.push(to_na(x));
                     }
                     continue;
                 }
-                let dist = (x - proj.point).length();
-                if dist > reach {
-                    continue;
-                }
-                let side = side as usize;
-                let (part, normal) = match location {
-                    SegmentPointLocation::OnEdge(_) => (outline.side_part[side], normals[side]),
-                    SegmentPointLocation::OnVertex(end) => {
-                        let vertex = (side + end as usize) % n_sides;
-                        let sides = [(vertex + n_sides - 1) % n_sides, vertex];
-                        let parts = sides.map(|s| outline.side_part[s]);
-                        if parts[0] == parts[1] {
-                            let n = if dist > 1e-6 * dx {
-                                (x - proj.point) / dist
-                            } else {
-                                normals[side]
-                            };
-                            (parts[0], n)
-                        } else {
-                            // the part of the nearer side line; ties to the higher priority
-                            let v = outline.vertices[vertex];
-                            let line =
-                                sides.map(|s| ((x - PVec2::new(v[0], v[1])).dot(normals[s])).abs());
-                            let tol = 1e-7 * dx;
-                            let first = line[0] < line[1] - tol
-                                || (line[0] <= line[1] + tol
-                                    && part_priority(parts[0]) > part_priority(parts[1]));
-                            let s = if first { sides[0] } else { sides[1] };
-                            (outline.side_part[s], normals[s])
+                let tank_dist = if proj.is_inside {
+                    f64::INFINITY
+                } else {
+                    (x - proj.point).length()
+                };
+                let (dist, part, normal) = match near_solid {
+                    Some((d, si, s_side, s_loc, on)) if d < tank_dist || tank_dist > reach => {
+                        let b = &solids[si];
+                        let normal = match s_loc {
+                            SegmentPointLocation::OnVertex(_) if d > 1e-6 * dx => (x - on) / d,
+                            _ => b.normals[s_side as usize],
+                        };
+                        (d, b.part, normal)
+                    }
+                    _ => {
+                        let dist = tank_dist;
+                        if dist > reach {
+                            continue;
                         }
+                        let side = side as usize;
+                        let (part, normal) = match location {
+                            SegmentPointLocation::OnEdge(_) => {
+                                (outline.side_part[side], normals[side])
+                            }
+                            SegmentPointLocation::OnVertex(end) => {
+                                let vertex = (side + end as usize) % n_sides;
+                                let sides = [(vertex + n_sides - 1) % n_sides, vertex];
+                                let parts = sides.map(|s| outline.side_part[s]);
+                                if parts[0] == parts[1] {
+                                    let n = if dist > 1e-6 * dx {
+                                        (x - proj.point) / dist
+                                    } else {
+                                        normals[side]
+                                    };
+                                    (parts[0], n)
+                                } else {
+                                    // the part of the nearer side line; ties to the higher priority
+                                    let v = outline.vertices[vertex];
+                                    let line = sides.map(|s| {
+                                        ((x - PVec2::new(v[0], v[1])).dot(normals[s])).abs()
+                                    });
+                                    let tol = 1e-7 * dx;
+                                    let first = line[0] < line[1] - tol
+                                        || (line[0] <= line[1] + tol
+                                            && part_priority(parts[0]) > part_priority(parts[1]));
+                                    let s = if first { sides[0] } else { sides[1] };
+                                    (outline.side_part[s], normals[s])
+                                }
+                            }
+                        };
+                        (dist, part, normal)
                     }
                 };
                 let layer = ((dist / dx - 1e-9).ceil() as i64).clamp(1, self.layers as i64) as u8;
@@ -554,7 +713,10 @@ impl SectionTank2 {
         // areas: sample each side at ≤ dx/2, give each sample's length to the nearest
         // innermost particle of the side's part
         let wall_part = &setup.wall_part;
-        let nearest_inner = |s: PVec2, part: u16| -> Option<u32> {
+        let wall_normal = &setup.wall_normal;
+        // `facing`: only particles whose normal is within 45° of it (a solid's corners: each
+        // face's length goes to the particles that carry that face's normal)
+        let nearest_inner = |s: PVec2, part: u16, facing: Option<PVec2>| -> Option<u32> {
             let c = [cell_of(s.x, dx), cell_of(s.y, dx)];
             for radius in [2i64, 4] {
                 let mut best: Option<(f64, u32)> = None;
@@ -569,6 +731,12 @@ impl SectionTank2 {
                         if w == u32::MAX || wall_part[w as usize] != part {
                             continue;
                         }
+                        if let Some(f) = facing {
+                            let n = wall_normal[w as usize];
+                            if n.x * f.x + n.y * f.y < FRAC_1_SQRT_2 {
+                                continue;
+                            }
+                        }
                         let d2 = (point(i, j) - s).length_squared();
                         if best.is_none_or(|(bd, bw)| d2 < bd || (d2 == bd && w < bw)) {
                             best = Some((d2, w));
@@ -581,9 +749,19 @@ impl SectionTank2 {
             }
             None
         };
+        let in_other_solid = |s: PVec2, own: Option<usize>| {
+            solids
+                .iter()
+                .enumerate()
+                .any(|(k, b)| Some(k) != own && b.contains(s))
+        };
+        let n_parts = part_names.len();
         let mut wall_area = vec![0.0; setup.wall_positions.len()];
-        let mut assigned = vec![0.0; 3];
-        for k in 0..n_sides {
+        let mut assigned = vec![0.0; n_parts];
+        // the tank's sides: a sample covered by a solid (just inside the liquid) is not wetted
+        let mut tank_full = vec![0.0; n_parts];
+        let mut tank_wet = vec![0.0; n_parts];
+        for (k, &normal) in normals.iter().enumerate() {
             let part = outline.side_part[k];
             let (a, b) = (outline.vertices[k], outline.vertices[(k + 1) % n_sides]);
             let (a, b) = (PVec2::new(a[0], a[1]), PVec2::new(b[0], b[1]));
@@ -592,18 +770,68 @@ impl SectionTank2 {
             let piece = length / pieces as f64;
             for m in 0..pieces {
                 let s = a + (b - a) * ((m as f64 + 0.5) / pieces as f64);
-                if let Some(w) = nearest_inner(s, part) {
+                tank_full[part as usize] += piece;
+                if !solids.is_empty() && in_other_solid(s - normal * (1e-3 * dx), None) {
+                    continue;
+                }
+                tank_wet[part as usize] += piece;
+                if let Some(w) = nearest_inner(s, part, None) {
                     wall_area[w as usize] += piece;
                     assigned[part as usize] += piece;
                 }
             }
         }
-        scale_areas_to_part_totals(
-            &mut wall_area,
-            &setup.wall_part,
-            &assigned,
-            &outline.part_lengths(),
-        );
+        let mut target = outline.part_lengths();
+        target.resize(n_parts, 0.0);
+        if !solids.is_empty() {
+            for ((t, full), wet) in target.iter_mut().zip(&tank_full).zip(&tank_wet) {
+                if *full > 0.0 {
+                    *t *= wet / full;
+                }
+            }
+        }
+        // the solids' sides: wetted where just outside the solid lies inside the tank and
+        // outside the other solids; the part's total is the exact perimeter's wetted share
+        for (si, b) in solids.iter().enumerate() {
+            let nv = b.vertices.len();
+            let (mut full, mut wet, mut missed) = (0.0, 0.0, 0.0);
+            for k in 0..nv {
+                let (p, q) = (b.vertices[k], b.vertices[(k + 1) % nv]);
+                let length = (q - p).length();
+                let pieces = (length / (0.5 * dx)).ceil().max(1.0) as usize;
+                let piece = length / pieces as f64;
+                for m in 0..pieces {
+                    let s = p + (q - p) * ((m as f64 + 0.5) / pieces as f64);
+                    full += piece;
+                    let liquid_side = s - b.normals[k] * (1e-3 * dx);
+                    if !tank_contains(liquid_side) || in_other_solid(liquid_side, Some(si)) {
+                        continue;
+                    }
+                    wet += piece;
+                    let facing = nearest_inner(s, b.part, Some(b.normals[k]));
+                    match facing.or_else(|| nearest_inner(s, b.part, None)) {
+                        Some(w) => {
+                            wall_area[w as usize] += piece;
+                            assigned[b.part as usize] += piece;
+                        }
+                        None => missed += piece,
+                    }
+                }
+            }
+            if missed > 0.0 {
+                return Err(GeometryError::InvalidShape(format!(
+                    "solid '{}': {missed:.3} m of its wetted outline has no wall particle within \
+                     4 dx inside it; the solid is thinner than 2 dx = {} m there (make it \
+                     thicker or use a smaller dx)",
+                    b.name,
+                    2.0 * dx
+                )));
+            }
+            if full > 0.0 {
+                target[b.part as usize] += b.perimeter * wet / full;
+            }
+        }
+        scale_areas_to_part_totals(&mut wall_area, &setup.wall_part, &assigned, &target);
         setup.wall_area = wall_area;
         Ok(setup)
     }
@@ -639,37 +867,112 @@ fn roof_between_wall_tops(
     Ok(inner)
 }
 
-/// The interior of a [`SectionTank2`]: the region inside its closed outline.
+/// The interior of a [`SectionTank2`]: the region inside its closed outline and outside its
+/// internal solids.
 #[derive(Clone)]
 pub struct SectionRegion2 {
     polyline: Polyline,
+    solids: Vec<Polyline>,
+}
+
+/// Whether `point` lies inside the closed counter-clockwise `polyline`, and its distance to it.
+fn inside_and_distance(polyline: &Polyline, point: &Vector2<f64>) -> (bool, f64) {
+    let x = PVec2::new(point.x, point.y);
+    let (proj, _) = polyline.project_local_point_assuming_solid_interior_ccw(x);
+    (proj.is_inside, (x - proj.point).length())
+}
+
+/// Whether `point` lies inside the bounding box of `polyline`.
+fn in_box(polyline: &Polyline, point: &Vector2<f64>) -> bool {
+    let aabb = polyline.local_aabb();
+    point.x >= aabb.mins.x
+        && point.y >= aabb.mins.y
+        && point.x <= aabb.maxs.x
+        && point.y <= aabb.maxs.y
 }
 
 impl SectionRegion2 {
-    fn inside_and_distance(&self, point: &Vector2<f64>) -> (bool, f64) {
-        let x = PVec2::new(point.x, point.y);
-        let (proj, _) = self
-            .polyline
-            .project_local_point_assuming_solid_interior_ccw(x);
-        (proj.is_inside, (x - proj.point).length())
+    /// Distance (m) from `point` to the surface of the internal solid it lies in, if any.
+    fn depth_in_solid(&self, point: &Vector2<f64>) -> Option<f64> {
+        self.solids
+            .iter()
+            .filter(|s| in_box(s, point))
+            .map(|s| inside_and_distance(s, point))
+            .find(|(inside, _)| *inside)
+            .map(|(_, d)| d)
     }
 }
 
 impl TankInterior<2> for SectionRegion2 {
     fn contains(&self, point: &Vector2<f64>) -> bool {
-        let aabb = self.polyline.local_aabb();
-        point.x >= aabb.mins.x
-            && point.y >= aabb.mins.y
-            && point.x <= aabb.maxs.x
-            && point.y <= aabb.maxs.y
-            && self.inside_and_distance(point).0
+        in_box(&self.polyline, point)
+            && inside_and_distance(&self.polyline, point).0
+            && self.depth_in_solid(point).is_none()
     }
 
+    /// Distance to the tank outline outside it; inside a solid, the distance to the solid's
+    /// surface.
     fn distance_outside(&self, point: &Vector2<f64>) -> f64 {
-        match self.inside_and_distance(point) {
-            (true, _) => 0.0,
+        match inside_and_distance(&self.polyline, point) {
+            (true, _) => self.depth_in_solid(point).unwrap_or(0.0),
             (false, d) => d,
         }
+    }
+}
+
+/// An internal solid ready for particles: its counter-clockwise outline, the normal of each
+/// side pointing into the solid (out of the liquid), part and exact perimeter.
+struct SolidBoundary {
+    name: String,
+    vertices: Vec<PVec2>,
+    normals: Vec<PVec2>,
+    polyline: Polyline,
+    part: u16,
+    perimeter: f64,
+    lo: PVec2,
+    hi: PVec2,
+}
+
+impl SolidBoundary {
+    fn new(name: &str, vertices: Vec<[f64; 2]>, part: u16, perimeter: f64) -> Self {
+        let (lo, hi) = bounding_box_2d(&vertices);
+        let n = vertices.len();
+        let v: Vec<PVec2> = vertices.iter().map(|p| PVec2::new(p[0], p[1])).collect();
+        let normals = (0..n)
+            .map(|k| {
+                let (a, b) = (v[k], v[(k + 1) % n]);
+                PVec2::new(a.y - b.y, b.x - a.x).normalize_or_zero()
+            })
+            .collect();
+        let indices = (0..n as u32).map(|k| [k, (k + 1) % n as u32]).collect();
+        SolidBoundary {
+            name: name.to_string(),
+            polyline: Polyline::new(v.clone(), Some(indices)),
+            vertices: v,
+            normals,
+            part,
+            perimeter,
+            lo: PVec2::new(lo[0], lo[1]),
+            hi: PVec2::new(hi[0], hi[1]),
+        }
+    }
+
+    /// Whether `x` is within `margin` (m) of the solid's bounding box.
+    fn near(&self, x: PVec2, margin: f64) -> bool {
+        x.x >= self.lo.x - margin
+            && x.y >= self.lo.y - margin
+            && x.x <= self.hi.x + margin
+            && x.y <= self.hi.y + margin
+    }
+
+    /// Whether `x` lies inside the solid.
+    fn contains(&self, x: PVec2) -> bool {
+        self.near(x, 0.0)
+            && self
+                .polyline
+                .project_local_point_assuming_solid_interior_ccw(x)
+                .0
+                .is_inside
     }
 }
 
@@ -869,5 +1172,180 @@ mod tests {
         assert!(circle(1.0, 2.5).build(0.05).is_err());
         assert!(circle(1.0, f64::NAN).build(0.05).is_err());
         assert!(circle(1.0, 0.5).with_initial_tilt(0.6).build(0.05).is_err());
+    }
+}
+
+#[cfg(test)]
+mod solid_tests {
+    use super::*;
+
+    /// Sum of the wall areas of part `name` (m per m of depth).
+    fn part_sum(setup: &ParticleSetup<2>, name: &str) -> f64 {
+        let p = setup
+            .part_names
+            .iter()
+            .position(|n| n == name)
+            .expect("the part exists") as u16;
+        setup
+            .wall_area
+            .iter()
+            .zip(&setup.wall_part)
+            .filter(|(_, &q)| q == p)
+            .map(|(a, _)| a)
+            .sum()
+    }
+
+    fn rel(a: f64, b: f64) -> f64 {
+        (a - b).abs() / b
+    }
+
+    fn tank_2x1() -> SectionTank2 {
+        SectionTank2::new(
+            SectionShape::Polygon(vec![[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]]),
+            0.6,
+        )
+    }
+
+    #[test]
+    fn solids_lengths_add_up_to_their_perimeters() {
+        let dx = 0.02;
+        // a plate turned 30°, a column, a triangle, all inside the tank (some above the liquid:
+        // the whole outline inside the tank is wetted surface)
+        let triangle = vec![[1.5, 0.2], [1.8, 0.2], [1.65, 0.5]];
+        let tank = tank_2x1()
+            .with_solid(Solid2::plate("baffle", [0.5, 0.35], 0.4, 0.05, 30.0))
+            .with_solid(Solid2::circle("column", [1.0, 0.3], 0.1))
+            .with_solid(Solid2::polygon("wedge", triangle));
+        let setup = tank.build(dx).unwrap();
+        assert_eq!(
+            setup.part_names,
+            ["bottom", "wall", "roof", "baffle", "column", "wedge"]
+        );
+        let wedge = 0.3 + 2.0 * 0.15f64.hypot(0.3);
+        for (name, exact) in [
+            ("baffle", 2.0 * (0.4 + 0.05)),
+            ("column", 2.0 * PI * 0.1),
+            ("wedge", wedge),
+        ] {
+            let sum = part_sum(&setup, name);
+            assert!(rel(sum, exact) < 0.01, "{name}: {sum} vs {exact}");
+        }
+        // the tank's own parts keep their lengths
+        assert!(rel(part_sum(&setup, "bottom"), 2.0) < 1e-12);
+        assert!(rel(part_sum(&setup, "wall"), 2.0) < 1e-12);
+        // no fluid inside a solid or closer than dx/2·… to its surface than the lattice allows;
+        // every solid wall particle lies inside its solid, normals point into it
+        let column = setup.part_names.iter().position(|n| n == "column").unwrap() as u16;
+        for x in &setup.fluid_positions {
+            assert!((x - Vector2::new(1.0, 0.3)).norm() > 0.1);
+            assert!(setup.interior.contains(x));
+        }
+        for (k, x) in setup.wall_positions.iter().enumerate() {
+            if setup.wall_part[k] == column {
+                let r = x - Vector2::new(1.0, 0.3);
+                assert!(r.norm() < 0.1 && r.norm() >= 0.1 - 3.0 * dx - 1e-9);
+                assert!(setup.wall_normal[k].dot(&(-r.normalize())) > 0.99);
+            }
+        }
+        // the fluid area is the liquid's area less the submerged solids' (within the
+        // lattice's staircase: 2 % here)
+        let level = setup.fill_level;
+        let submerged = PI * 0.1 * 0.1 + 0.5 * 0.3 * 0.3 + 0.4 * 0.05;
+        let area = setup.fluid_positions.len() as f64 * dx * dx;
+        assert!(rel(area, 2.0 * level - submerged) < 0.02, "{area}");
+    }
+
+    #[test]
+    fn a_solid_through_the_tank_wall_is_wetted_inside_only() {
+        // a plate on the floor, half of its thickness below it: the floor under it and the
+        // plate's lower face are dry
+        let dx = 0.01;
+        let tank = tank_2x1().with_solid(Solid2::plate("plate", [1.0, 0.0], 0.4, 0.06, 0.0));
+        let setup = tank.build(dx).unwrap();
+        let plate = 0.4 + 2.0 * 0.03;
+        assert!(rel(part_sum(&setup, "plate"), plate) < 0.01);
+        // the wetted faces' area-weighted normals: the top face, 0.4 m facing down into the
+        // plate, and the two end faces cancelling
+        let p = setup.part_names.iter().position(|n| n == "plate").unwrap() as u16;
+        let (mut nx, mut ny) = (0.0, 0.0);
+        for k in 0..setup.wall_part.len() {
+            if setup.wall_part[k] == p {
+                nx += setup.wall_area[k] * setup.wall_normal[k].x;
+                ny += setup.wall_area[k] * setup.wall_normal[k].y;
+            }
+        }
+        assert!(nx.abs() < 1e-3 && rel(-ny, 0.4) < 0.01, "{nx} {ny}");
+        assert!(rel(part_sum(&setup, "bottom"), 2.0 - 0.4) < 0.01);
+    }
+
+    #[test]
+    fn thin_or_misnamed_solids_are_errors() {
+        let thin = tank_2x1().with_solid(Solid2::plate("baffle", [1.0, 0.5], 0.4, 0.01, 0.0));
+        let err = match thin.build(0.02) {
+            Ok(_) => panic!("a plate thinner than 2 dx builds"),
+            Err(e) => e.to_string(),
+        };
+        assert!(err.contains("thinner than 2 dx"), "{err}");
+        let bad = tank_2x1().with_solid(Solid2::circle("my column", [1.0, 0.5], 0.1));
+        assert!(bad.check_shape().is_err());
+    }
+
+    #[test]
+    fn named_sides_of_a_polygon_sum_to_their_lengths() {
+        // a tank with a sump: floor at 0.2 m with a 0.2 m deep, 0.4 m wide sump, sides given
+        // clockwise (side k joins point k to point k+1)
+        let outline = vec![
+            [0.0, 0.2],
+            [0.0, 1.0],
+            [2.0, 1.0],
+            [2.0, 0.2],
+            [1.2, 0.2],
+            [1.2, 0.0],
+            [0.8, 0.0],
+            [0.8, 0.2],
+        ];
+        let tank = SectionTank2::new(SectionShape::Polygon(outline.clone()), 0.5)
+            .with_named_sides("sump", 4, 6)
+            .with_named_sides("roof", 1, 1)
+            .with_named_sides("shell", 7, 0);
+        let o = tank.outline(0.02).unwrap();
+        assert_eq!(o.part_names, ["bottom", "wall", "roof", "sump", "shell"]);
+        let lengths = o.part_lengths();
+        // sump 0.2 + 0.4 + 0.2; shell: floor 0.8 left and the left wall 0.8; bottom: the right
+        // floor 0.8; wall: the right wall 0.8; roof 2
+        let exact = [0.8, 0.8, 2.0, 0.8, 1.6];
+        for p in 0..5 {
+            assert!(rel(lengths[p], exact[p]) < 1e-12, "{p}: {}", lengths[p]);
+        }
+        let setup = tank.build(0.02).unwrap();
+        for (p, name) in o.part_names.iter().enumerate() {
+            let sum = part_sum(&setup, name);
+            assert!(rel(sum, exact[p]) < 0.01, "{name}: {sum} vs {}", exact[p]);
+        }
+        let total: f64 = setup.wall_area.iter().sum();
+        assert!(rel(total, exact.iter().sum()) < 0.01);
+        // the counter-clockwise order names the same sides
+        let ccw: Vec<[f64; 2]> = outline.iter().rev().copied().collect();
+        let n = ccw.len();
+        let flip = |k: usize| (2 * n - 2 - k) % n;
+        let tank = SectionTank2::new(SectionShape::Polygon(ccw), 0.5)
+            .with_named_sides("sump", flip(6), flip(4))
+            .with_named_sides("roof", flip(1), flip(1))
+            .with_named_sides("shell", flip(0), flip(7));
+        assert_eq!(tank.outline(0.02).unwrap().part_lengths(), lengths);
+        // overlapping or out-of-range ranges are errors
+        let err = SectionTank2::new(SectionShape::Polygon(outline.clone()), 0.5)
+            .with_named_sides("a", 0, 2)
+            .with_named_sides("b", 2, 3)
+            .check_shape()
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("already named"), "{err}");
+        let err = SectionTank2::new(SectionShape::Polygon(outline), 0.5)
+            .with_named_sides("a", 0, 8)
+            .check_shape()
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("sides 0 to 7"), "{err}");
     }
 }

@@ -23,7 +23,10 @@ pub mod stepping;
 pub use load_filter::{LoadFilter, LoadPeak};
 pub use motion::{to_vector, AfterSettling, AtRest, GroundMotion, MotionError};
 pub use roof::{RoofImpact, RoofMonitor, RoofSnapshot, RoofTank};
-pub use run::{run_case, run_case_from, wall_gauges, Gauge, Observer, RunCheckpoint, RunPlan, RunResult, RunStatus};
+pub use run::{
+    part_force_column, run_case, run_case_from, wall_gauges, Gauge, Observer, RunCheckpoint,
+    RunPlan, RunResult, RunStatus,
+};
 pub use stepping::{
     advance, advance_with, AfterEachStep, EachStep, HookError, StepError, StepHooks, StepPhase,
     StopRequest, Until,

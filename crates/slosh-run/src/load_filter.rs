@@ -21,6 +21,13 @@ pub const FILTERED_COLUMNS: [&str; 6] = [
     "overturning_moment_x",
 ];
 
+/// Whether `name` is a per-part force column, `<part>_force_x|y|z`.
+fn is_part_force_column(name: &str) -> bool {
+    ["_force_x", "_force_y", "_force_z"]
+        .iter()
+        .any(|s| name.len() > s.len() && name.ends_with(s))
+}
+
 /// Suffix of a filtered column's name.
 pub const FILTERED_SUFFIX: &str = "_lp";
 
@@ -161,8 +168,9 @@ pub struct LoadPeak {
 }
 
 /// Appends `<column>_lp` after the existing columns for each of [`FILTERED_COLUMNS`] the run
-/// has (`names` = (name, unit), `history` = the columns, the first being `t`) and returns the
-/// peaks of each raw and filtered pair.
+/// has, then for each per-part force column (`<part>_force_<axis>`, internal solids and parts
+/// named by the user) (`names` = (name, unit), `history` = the columns, the first being `t`),
+/// and returns the peaks of each raw and filtered pair.
 pub fn add_filtered_columns(
     filter: &mut LoadFilter,
     names: &mut Vec<(String, String)>,
@@ -170,7 +178,17 @@ pub fn add_filtered_columns(
 ) -> Vec<LoadPeak> {
     let t = history[0].clone();
     let mut peaks = Vec::new();
-    for column in FILTERED_COLUMNS {
+    let part_forces: Vec<String> = names
+        .iter()
+        .filter(|(n, _)| is_part_force_column(n))
+        .map(|(n, _)| n.clone())
+        .collect();
+    let wanted = FILTERED_COLUMNS
+        .iter()
+        .map(|c| c.to_string())
+        .chain(part_forces);
+    for column in wanted {
+        let column = column.as_str();
         let Some(i) = names.iter().position(|(n, _)| n == column) else {
             continue;
         };

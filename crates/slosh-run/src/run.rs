@@ -176,8 +176,10 @@ impl<const D: usize> RunResult<D> {
     }
 }
 
-/// The series columns of a run: `(name, unit)` and where the loads start.
-fn columns(dim: usize, gauges: &[Gauge]) -> (Vec<(String, String)>, usize) {
+/// The series columns of a run: `(name, unit)` and where the loads start. `extra_parts` are
+/// the names of the parts after `bottom`, `wall` and `roof` (internal solids, parts named by
+/// the user): each gets the force of the liquid on it, `<part>_force_x` and the other axes.
+fn columns(dim: usize, gauges: &[Gauge], extra_parts: &[String]) -> (Vec<(String, String)>, usize) {
     let force = if dim == 2 { "N/m" } else { "N" };
     let energy = if dim == 2 { "J/m" } else { "J" };
     let mut names: Vec<(String, String)> = vec![("t".into(), "s".into())];
@@ -214,7 +216,25 @@ fn columns(dim: usize, gauges: &[Gauge]) -> (Vec<(String, String)>, usize) {
         names.push(("overturning_moment_y".into(), "N·m".into()));
         names.push(("overturning_moment_x".into(), "N·m".into()));
     }
+    for part in extra_parts {
+        for axis in PART_FORCE_AXES[dim - 2] {
+            names.push((part_force_column(part, axis), force.into()));
+        }
+    }
     (names, n_before_loads)
+}
+
+/// Number of built-in wall parts (`bottom`, `wall`, `roof`) before the internal solids and the
+/// parts named by the user.
+const BUILT_IN_PARTS: usize = 3;
+
+/// The axes of the per-part force columns in 2D and in 3D (the last is vertical, up positive).
+const PART_FORCE_AXES: [&[&str]; 2] = [&["x", "y"], &["x", "y", "z"]];
+
+/// Name of the series column of the force of the liquid on `part` along `axis` (N or N/m):
+/// `<part>_force_<axis>`.
+pub fn part_force_column(part: &str, axis: &str) -> String {
+    format!("{part}_force_{axis}")
 }
 
 /// Horizontal positions of the left and right wall gauges: on the x axis, one lattice
@@ -367,6 +387,9 @@ impl<const D: usize, O: Observer<D> + ?Sized> CaseMeasurements<'_, D, O> {
         for lever in &self.levers {
             values.push(lever.iter().zip(centred_pressure).map(|(c, p)| c * p).sum());
         }
+        for force in loads.force.iter().skip(BUILT_IN_PARTS) {
+            values.extend(force.iter().copied());
+        }
         self.push_row(values)
     }
 
@@ -499,7 +522,13 @@ where
 {
     let particles_fluid = sim.fluid().position.len();
     let particles_wall = sim.walls().position.len();
-    let (names, n_before_loads) = columns(D, &plan.gauges);
+    let extra_parts: Vec<String> = sim
+        .part_names()
+        .iter()
+        .skip(BUILT_IN_PARTS)
+        .cloned()
+        .collect();
+    let (names, n_before_loads) = columns(D, &plan.gauges, &extra_parts);
     observer.columns(&names)?;
     let part = |name: &str| sim.part_names().iter().position(|n| n == name);
     let expected_rows = (plan.duration / plan.output_interval).ceil() as usize + 2;

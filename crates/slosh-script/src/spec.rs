@@ -6,7 +6,9 @@ use slosh_core::{
     ArtificialSoundSpeed, BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, KernelKind,
     NeighbourBackend, SoundSpeedRule, SphParams, WallPressureMethod,
 };
-use slosh_geometry::{bounding_box_2d, InitialSurface, SectionRoof, SectionShape, SectionTank2};
+use slosh_geometry::{
+    bounding_box_2d, InitialSurface, SectionRoof, SectionShape, SectionTank2, Solid2,
+};
 use std::collections::BTreeSet;
 
 /// Reads the keys of a Rhai map, remembering which were used so that unknown keys (typos)
@@ -154,6 +156,9 @@ pub enum TankSpec {
         tilt: f64,
         /// Shape of the tilted surface: `"plane"` or `"mode1"` (first sloshing mode).
         tilt_shape: String,
+        /// Fixed solids inside the tank (baffles, columns); a closed (roofed) section only.
+        #[serde(skip_serializing_if = "Vec::is_empty")]
+        solids: Vec<SolidSpec>,
     },
     /// 2D section of any closed outline (per metre of depth): a polygon or a circle.
     Section {
@@ -165,6 +170,13 @@ pub enum TankSpec {
         tilt: f64,
         /// Shape of the tilted surface: `"plane"` or `"mode1"` (first sloshing mode).
         tilt_shape: String,
+        /// Fixed solids inside the tank (baffles, columns).
+        #[serde(skip_serializing_if = "Vec::is_empty")]
+        solids: Vec<SolidSpec>,
+        /// Parts named by the user on a polygon: name and the first and last side (side k
+        /// joins point k to point k+1 of the outline as given).
+        #[serde(skip_serializing_if = "Vec::is_empty")]
+        parts: Vec<(String, [usize; 2])>,
     },
     /// 3D upright cylinder, axis vertical through x = y = 0.
     Cylinder {
@@ -211,6 +223,158 @@ pub enum TankSpec {
         /// Shape of the tilted surface: `"plane"` or `"mode1"` (first sloshing mode).
         tilt_shape: String,
     },
+}
+
+/// A fixed solid inside a 2D tank, `solids: [#{ name, shape, … }]`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SolidSpec {
+    /// Part name its loads are reported under.
+    pub name: String,
+    /// Its shape.
+    pub shape: SolidShapeSpec,
+}
+
+/// Shape of a [`SolidSpec`] (lengths in m, angles in degrees).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub enum SolidShapeSpec {
+    /// `shape: "plate"`: a rectangle `length` × `thickness` centred on `centre`, its length
+    /// turned `angle` degrees counter-clockwise from +x.
+    Plate {
+        /// Centre [x, y] (m).
+        centre: [f64; 2],
+        /// Length (m).
+        length: f64,
+        /// Thickness (m).
+        thickness: f64,
+        /// Angle from +x (degrees).
+        angle: f64,
+    },
+    /// `shape: "circle"`: a circle of `radius` centred on `centre`.
+    Circle {
+        /// Centre [x, y] (m).
+        centre: [f64; 2],
+        /// Radius (m).
+        radius: f64,
+    },
+    /// `shape: "polygon"`: a closed simple polygon `outline` of [x, y] points.
+    Polygon(Vec<[f64; 2]>),
+}
+
+impl SolidSpec {
+    /// The geometry's solid.
+    pub fn solid(&self) -> Solid2 {
+        match &self.shape {
+            SolidShapeSpec::Plate {
+                centre,
+                length,
+                thickness,
+                angle,
+            } => Solid2::plate(&self.name, *centre, *length, *thickness, *angle),
+            SolidShapeSpec::Circle { centre, radius } => {
+                Solid2::circle(&self.name, *centre, *radius)
+            }
+            SolidShapeSpec::Polygon(points) => Solid2::polygon(&self.name, points.clone()),
+        }
+    }
+
+    /// Reads one `#{ name, shape, … }` map of a tank's `solids` list.
+    fn from_map(k: usize, map: &Map) -> Result<SolidSpec, String> {
+        let mut r = MapReader::new("tank solid", map);
+        let at = |m: String| format!("tank: solids[{k}]: {m}");
+        let name = r.str_or("name", "")?;
+        if name.is_empty() {
+            return Err(at(
+                "needs a 'name', the part its loads are reported under".into()
+            ));
+        }
+        let centre = |r: &mut MapReader| -> Result<[f64; 2], String> {
+            match r.get("centre") {
+                None => Err(at("needs 'centre', [x, y] (m)".into())),
+                Some(d) => {
+                    let p = points_from_dynamic(&Dynamic::from(vec![d.clone()]))
+                        .map_err(|_| at(format!("'centre' must be [x, y] (got {d})")))?;
+                    Ok(p[0])
+                }
+            }
+        };
+        let shape = match r.str_or("shape", "")?.as_str() {
+            "plate" => SolidShapeSpec::Plate {
+                centre: centre(&mut r)?,
+                length: r
+                    .opt_f64("length")?
+                    .ok_or_else(|| at("a plate needs 'length' (m)".into()))?,
+                thickness: r
+                    .opt_f64("thickness")?
+                    .ok_or_else(|| at("a plate needs 'thickness' (m)".into()))?,
+                angle: r.f64_or("angle", 0.0)?,
+            },
+            "circle" => SolidShapeSpec::Circle {
+                centre: centre(&mut r)?,
+                radius: r
+                    .opt_f64("radius")?
+                    .ok_or_else(|| at("a circle needs 'radius' (m)".into()))?,
+            },
+            "polygon" => SolidShapeSpec::Polygon(r.opt_points("outline")?.ok_or_else(|| {
+                at("a polygon needs 'outline', a list of [x, y] points (m)".into())
+            })?),
+            other => {
+                return Err(at(format!(
+                    "unknown shape \"{other}\" (use \"plate\", \"circle\" or \"polygon\")"
+                )))
+            }
+        };
+        r.finish().map_err(at)?;
+        Ok(SolidSpec { name, shape })
+    }
+}
+
+/// Reads a tank's `solids`: a list of solid maps (empty when absent).
+fn read_solids(r: &mut MapReader) -> Result<Vec<SolidSpec>, String> {
+    let Some(list) = r.get("solids") else {
+        return Ok(Vec::new());
+    };
+    let list = list.as_array_ref().map_err(|_| {
+        format!("tank: 'solids' must be a list of maps #{{ name, shape, … }} (got {list})")
+    })?;
+    list.iter()
+        .enumerate()
+        .map(|(k, d)| {
+            let map = d.read_lock::<Map>().ok_or_else(|| {
+                format!("tank: solids[{k}] must be a map #{{ name, shape, … }} (got {d})")
+            })?;
+            SolidSpec::from_map(k, &map)
+        })
+        .collect()
+}
+
+/// Reads a polygon's `parts`: a map from part name to [first side, last side].
+fn read_parts(r: &mut MapReader) -> Result<Vec<(String, [usize; 2])>, String> {
+    let Some(d) = r.get("parts") else {
+        return Ok(Vec::new());
+    };
+    let map = d.read_lock::<Map>().ok_or_else(|| {
+        format!("tank: 'parts' must be a map from part name to [first side, last side] (got {d})")
+    })?;
+    let side = |v: &Dynamic| {
+        dynamic_to_f64(v)
+            .filter(|x| *x >= 0.0 && x.fract() == 0.0)
+            .map(|x| x as usize)
+    };
+    map.iter()
+        .map(|(name, range)| {
+            let pair = range.as_array_ref().ok().and_then(|a| {
+                (a.len() == 2)
+                    .then(|| Some([side(&a[0])?, side(&a[1])?]))
+                    .flatten()
+            });
+            pair.map(|p| (name.to_string(), p)).ok_or_else(|| {
+                format!(
+                    "tank: parts.{name} must be [first side, last side], two whole numbers ≥ 0 \
+                     (side k joins point k to point k+1 of the outline; got {range})"
+                )
+            })
+        })
+        .collect()
 }
 
 /// A 2D section's roof other than flat or none.
@@ -293,6 +457,7 @@ impl Default for TankSpec {
             layout: "offset".into(),
             tilt: 0.0,
             tilt_shape: "plane".into(),
+            solids: Vec::new(),
         }
     }
 }
@@ -344,9 +509,63 @@ impl TankSpec {
         }
     }
 
-    /// The wall parts whose loads are reported (`bottom`, `wall`, `roof`), each with what it
-    /// is on this tank.
-    pub fn part_descriptions(&self) -> Vec<(&'static str, String)> {
+    /// The wall parts whose loads are reported (`bottom`, `wall`, `roof`, then the parts named
+    /// by the user and the internal solids), each with what it is on this tank.
+    pub fn part_descriptions(&self) -> Vec<(String, String)> {
+        let mut parts: Vec<(String, String)> = self
+            .built_in_part_descriptions()
+            .into_iter()
+            .map(|(n, w)| (n.to_string(), w))
+            .collect();
+        let (named, solids): (&[(String, [usize; 2])], &[SolidSpec]) = match self {
+            TankSpec::Section { parts, solids, .. } => (parts, solids),
+            TankSpec::Rect { solids, .. } => (&[], solids),
+            _ => (&[], &[]),
+        };
+        if !named.is_empty() {
+            for (name, what) in parts.iter_mut() {
+                if !named.iter().any(|(n, _)| n == name) {
+                    what.push_str(" (of the sides not named in 'parts')");
+                }
+            }
+        }
+        let mut describe =
+            |name: &str, what: String| match parts.iter_mut().find(|(n, _)| n == name) {
+                Some((_, w)) => {
+                    w.push_str("; ");
+                    w.push_str(&what);
+                }
+                None => parts.push((name.to_string(), what)),
+            };
+        for (name, [first, last]) in named {
+            describe(name, format!("outline sides {first} to {last}"));
+        }
+        for s in solids {
+            let what = match &s.shape {
+                SolidShapeSpec::Plate {
+                    centre,
+                    length,
+                    thickness,
+                    angle,
+                } => format!(
+                    "internal plate {length} × {thickness} m at ({}, {}) m, {angle}° from x",
+                    centre[0], centre[1]
+                ),
+                SolidShapeSpec::Circle { centre, radius } => format!(
+                    "internal circle of radius {radius} m at ({}, {}) m",
+                    centre[0], centre[1]
+                ),
+                SolidShapeSpec::Polygon(points) => {
+                    format!("internal polygon of {} points", points.len())
+                }
+            };
+            describe(&s.name, what);
+        }
+        parts
+    }
+
+    /// The built-in parts `bottom`, `wall`, `roof` with what each is on this tank.
+    fn built_in_part_descriptions(&self) -> Vec<(&'static str, String)> {
         let none = || "none (open tank)".to_string();
         let by_facing = |down: &str, side: &str, up: &str| {
             vec![
@@ -423,21 +642,42 @@ impl TankSpec {
     /// a polygon or a circle; `None` for the flat-roofed or open rectangle (built by
     /// `RectTank2`) and the 3D tanks. Errors for a roof shape with the paper layout.
     pub fn section_tank(&self) -> Result<Option<SectionTank2>, String> {
-        let (shape, depth, tilt, tilt_shape) = match self {
+        // a flat-roofed rectangle with solids: the roof as a straight polyline
+        let flat;
+        let (shape, depth, tilt, tilt_shape, solids, parts) = match self {
+            TankSpec::Rect {
+                roof: false,
+                solids,
+                ..
+            } if !solids.is_empty() => {
+                return Err(
+                    "tank: internal solids need a closed 2D section: give the rectangle a roof \
+                     (roof: \"flat\", \"cone\", …) or use shape \"polygon\""
+                        .into(),
+                )
+            }
             TankSpec::Rect {
                 width,
                 height,
                 depth,
                 roof: true,
-                roof_shape: Some(roof),
+                roof_shape,
                 layout,
                 tilt,
                 tilt_shape,
-            } => {
+                solids,
+            } if roof_shape.is_some() || !solids.is_empty() => {
+                let roof = match roof_shape {
+                    Some(roof) => roof,
+                    None => {
+                        flat = SectionRoofSpec::Outline(vec![[*width, *height], [0.0, *height]]);
+                        &flat
+                    }
+                };
                 if layout != "offset" {
                     return Err(format!(
-                        "tank: layout \"{layout}\" is for flat or open roofs; a cone, dome or \
-                         polyline roof uses the offset layout"
+                        "tank: layout \"{layout}\" is for flat or open roofs without solids; a \
+                         cone, dome or polyline roof or internal solids use the offset layout"
                     ));
                 }
                 let roof = match roof {
@@ -450,13 +690,15 @@ impl TankSpec {
                     wall_height: *height,
                     roof,
                 };
-                (shape, depth, tilt, tilt_shape)
+                (shape, depth, tilt, tilt_shape, solids, &[][..])
             }
             TankSpec::Section {
                 outline,
                 depth,
                 tilt,
                 tilt_shape,
+                solids,
+                parts,
             } => {
                 let shape = match outline {
                     SectionOutlineSpec::Polygon(points) => SectionShape::Polygon(points.clone()),
@@ -464,15 +706,20 @@ impl TankSpec {
                         SectionShape::Circle { radius: *radius }
                     }
                 };
-                (shape, depth, tilt, tilt_shape)
+                (shape, depth, tilt, tilt_shape, solids, &parts[..])
             }
             _ => return Ok(None),
         };
-        Ok(Some(
-            SectionTank2::new(shape, *depth)
-                .with_initial_tilt(*tilt)
-                .with_initial_shape(InitialSurface::from_name(tilt_shape).unwrap_or_default()),
-        ))
+        let mut tank = SectionTank2::new(shape, *depth)
+            .with_initial_tilt(*tilt)
+            .with_initial_shape(InitialSurface::from_name(tilt_shape).unwrap_or_default());
+        for s in solids {
+            tank = tank.with_solid(s.solid());
+        }
+        for (name, [first, last]) in parts {
+            tank = tank.with_named_sides(name, *first, *last);
+        }
+        Ok(Some(tank))
     }
 
     /// Parses and checks a `tank(#{…})` map: unknown keys, and the outline or roof of a 2D
@@ -500,6 +747,7 @@ impl TankSpec {
                     layout: r.str_or("layout", "offset")?,
                     tilt: r.f64_or("tilt", 0.0)?,
                     tilt_shape: tilt_shape(&mut r)?,
+                    solids: read_solids(&mut r)?,
                 }
             }
             "polygon" => TankSpec::Section {
@@ -509,6 +757,8 @@ impl TankSpec {
                 depth: r.f64_or("depth", 0.5)?,
                 tilt: r.f64_or("tilt", 0.0)?,
                 tilt_shape: tilt_shape(&mut r)?,
+                solids: read_solids(&mut r)?,
+                parts: read_parts(&mut r)?,
             },
             "circle" => TankSpec::Section {
                 outline: SectionOutlineSpec::Circle {
@@ -517,6 +767,8 @@ impl TankSpec {
                 depth: r.f64_or("depth", 0.5)?,
                 tilt: r.f64_or("tilt", 0.0)?,
                 tilt_shape: tilt_shape(&mut r)?,
+                solids: read_solids(&mut r)?,
+                parts: Vec::new(),
             },
             "cylinder" => TankSpec::Cylinder {
                 radius: r.f64_or("radius", 0.5)?,
@@ -1021,8 +1273,90 @@ mod tests {
             layout: "offset".into(),
             tilt: 0.0,
             tilt_shape: "plane".into(),
+            solids: Vec::new(),
         };
         assert!(Resolution::PerRadius(10.0).spacing_for(&rect).is_err());
+    }
+
+    #[test]
+    fn solids_and_named_parts_are_read() {
+        let map = |pairs: Vec<(&str, Dynamic)>| -> Map {
+            pairs.into_iter().map(|(k, v)| (k.into(), v)).collect()
+        };
+        let point = |x: f64, y: f64| Dynamic::from(vec![Dynamic::from(x), Dynamic::from(y)]);
+        let square = Dynamic::from(vec![
+            point(0.0, 0.0),
+            point(1.0, 0.0),
+            point(1.0, 1.0),
+            point(0.0, 1.0),
+        ]);
+        let plate = Dynamic::from(map(vec![
+            ("name", Dynamic::from("baffle")),
+            ("shape", Dynamic::from("plate")),
+            ("centre", point(0.5, 0.3)),
+            ("length", Dynamic::from(0.4)),
+            ("thickness", Dynamic::from(0.05)),
+            ("angle", Dynamic::from(30_i64)),
+        ]));
+        let column = Dynamic::from(map(vec![
+            ("name", Dynamic::from("column")),
+            ("shape", Dynamic::from("circle")),
+            ("centre", point(0.2, 0.2)),
+            ("radius", Dynamic::from(0.05)),
+        ]));
+        let parts = Dynamic::from(map(vec![(
+            "floor",
+            Dynamic::from(vec![Dynamic::from(0_i64), Dynamic::from(0_i64)]),
+        )]));
+        let spec = TankSpec::from_map_checked(&map(vec![
+            ("shape", Dynamic::from("polygon")),
+            ("outline", square.clone()),
+            ("depth", Dynamic::from(0.5)),
+            ("solids", Dynamic::from(vec![plate.clone(), column])),
+            ("parts", parts),
+        ]))
+        .unwrap();
+        let tank = spec.section_tank().unwrap().unwrap();
+        assert_eq!(
+            tank.solids,
+            vec![
+                Solid2::plate("baffle", [0.5, 0.3], 0.4, 0.05, 30.0),
+                Solid2::circle("column", [0.2, 0.2], 0.05)
+            ]
+        );
+        assert_eq!(tank.named_sides, vec![("floor".to_string(), [0, 0])]);
+        let names: Vec<String> = spec.part_descriptions().into_iter().map(|p| p.0).collect();
+        assert_eq!(
+            names,
+            ["bottom", "wall", "roof", "floor", "baffle", "column"]
+        );
+        // a flat-roofed rectangle with a solid is built as a section; an open one is refused
+        let rect =
+            TankSpec::from_map_checked(&map(vec![("solids", Dynamic::from(vec![plate.clone()]))]))
+                .unwrap();
+        assert!(rect.section_tank().unwrap().is_some());
+        let err = TankSpec::from_map_checked(&map(vec![
+            ("roof", Dynamic::from(false)),
+            ("solids", Dynamic::from(vec![plate])),
+        ]))
+        .unwrap_err();
+        assert!(err.contains("closed 2D section"), "{err}");
+        // unknown solid shapes, missing keys and bad side ranges are named
+        let cone = Dynamic::from(map(vec![
+            ("name", Dynamic::from("x")),
+            ("shape", Dynamic::from("cone")),
+        ]));
+        let err = TankSpec::from_map_checked(&map(vec![("solids", Dynamic::from(vec![cone]))]))
+            .unwrap_err();
+        assert!(err.contains("solids[0]") && err.contains("plate"), "{err}");
+        let bad_parts = Dynamic::from(map(vec![("sump", Dynamic::from(3_i64))]));
+        let err = TankSpec::from_map_checked(&map(vec![
+            ("shape", Dynamic::from("polygon")),
+            ("outline", square),
+            ("parts", bad_parts),
+        ]))
+        .unwrap_err();
+        assert!(err.contains("parts.sump"), "{err}");
     }
 
     #[test]

@@ -8,14 +8,15 @@
 
 #![warn(missing_docs)]
 
-mod damping;
 mod dambreak;
+mod damping;
 mod forced_linear;
 mod modern;
 mod real_scale;
 mod report;
 mod resolution;
 mod run;
+mod sections;
 mod sloshing;
 mod three_d;
 
@@ -351,7 +352,10 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
         ),
         (
             "sloshing damping: free decay of the first mode, 15–40 particles per depth",
-            one("Sloshing damping: free decay (modern scheme)", damping::free_decay),
+            one(
+                "Sloshing damping: free decay (modern scheme)",
+                damping::free_decay,
+            ),
         ),
         (
             "sloshing damping: viscous liquid against the exact linear decay",
@@ -362,7 +366,10 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
         ),
         (
             "forced linear response from rest: both presets, first crests",
-            one("Forced linear response from rest", forced_linear::forced_from_rest),
+            one(
+                "Forced linear response from rest",
+                forced_linear::forced_from_rest,
+            ),
         ),
         (
             "modern scheme: dam-break front",
@@ -447,6 +454,13 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             one(
                 "Real-scale cylinder: free sloshing, 48 particles per radius",
                 real_scale::cylinder_fine,
+            ),
+        ));
+        all.push((
+            "2D sections: free sloshing of a half-full circle and a cone-roofed rectangle",
+            one(
+                "2D sections: free sloshing (circle, cone roof)",
+                sections::free_sloshing_sections,
             ),
         ));
         all.push((
