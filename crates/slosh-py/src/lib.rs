@@ -3,8 +3,8 @@
 //! It runs case scripts through the same code as `slosh run`, the case runner of
 //! `slosh-case` (so a run from Python writes the same output folder, bit for bit), lists a
 //! script's parameters, evaluates the closed forms of `slosh theory` and reads ground-motion
-//! records. The pure-Python part of the
-//! package (`python/slosh`) reads a run's folder back into numpy arrays and dictionaries.
+//! records. The pure-Python part of the package (`python/slosh`) reads a run's folder back
+//! into numpy arrays and dictionaries.
 #![warn(missing_docs)]
 
 use numpy::PyArray1;
