@@ -34,32 +34,4 @@ pub fn received() -> Option<i32> {
 }
 
 /// A run or sweep stopped by a signal; its exit code is 128 + the signal (130, 143).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Interrupted {
-    /// The signal number.
-    pub signal: i32,
-}
-
-impl Interrupted {
-    /// The conventional exit code, 128 + signal.
-    pub fn exit_code(&self) -> u8 {
-        (128 + self.signal).clamp(0, 255) as u8
-    }
-
-    /// The signal's name.
-    pub fn name(&self) -> &'static str {
-        match self.signal {
-            libc::SIGINT => "SIGINT",
-            libc::SIGTERM => "SIGTERM",
-            _ => "a signal",
-        }
-    }
-}
-
-impl std::fmt::Display for Interrupted {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "interrupted by {}", self.name())
-    }
-}
-
-impl std::error::Error for Interrupted {}
+pub use slosh_case::Interrupted;

@@ -346,11 +346,11 @@ fn cmd_run(args: RunArgs) -> Result<()> {
     let out = args
         .out
         .unwrap_or_else(|| PathBuf::from("out").join(&case.name));
-    let every = slosh_cli::checkpoint::parse_every(&args.checkpoint_every)
+    let every = slosh_case::checkpoint::parse_every(&args.checkpoint_every)
         .map_err(|e| anyhow::anyhow!("--checkpoint-every {e}"))?;
     let checkpoints = match every {
         Some(every) => Some((
-            slosh_cli::checkpoint::RunRecord::new(&args.case, &args.set, &args.allow_read, every)?,
+            slosh_case::checkpoint::RunRecord::new(&args.case, &args.set, &args.allow_read, every)?,
             every,
         )),
         None => None,
@@ -370,7 +370,7 @@ fn cmd_run(args: RunArgs) -> Result<()> {
 
 fn cmd_resume(args: ResumeArgs) -> Result<()> {
     set_threads(args.threads)?;
-    let record = slosh_cli::checkpoint::RunRecord::read(&args.dir)?;
+    let record = slosh_case::checkpoint::RunRecord::read(&args.dir)?;
     // The run continues where it started: its script and record paths may be relative.
     let dir = std::fs::canonicalize(&args.dir)
         .with_context(|| format!("cannot resolve {}", args.dir.display()))?;
@@ -392,7 +392,7 @@ fn cmd_resume(args: ResumeArgs) -> Result<()> {
         );
     }
     let every = match &args.checkpoint_every {
-        Some(text) => slosh_cli::checkpoint::parse_every(text)
+        Some(text) => slosh_case::checkpoint::parse_every(text)
             .map_err(|e| anyhow::anyhow!("--checkpoint-every {e}"))?,
         None => Some(
             std::time::Duration::try_from_secs_f64(record.checkpoint_every_s)

@@ -438,7 +438,7 @@ fn scalar_column(fixed: &[String], name: &str) -> String {
 /// which hold what the script's `post(run)` returns and are known only after a run.
 pub fn known_columns(varied: &[String]) -> Vec<String> {
     let fixed = fixed_columns(varied);
-    let blank = ron::to_string(&crate::runner::Summary::default()).unwrap_or_default();
+    let blank = ron::to_string(&slosh_case::Summary::default()).unwrap_or_default();
     let fields = ron::from_str::<OrderedFields>(&blank).unwrap_or(OrderedFields(Vec::new()));
     let mut columns = fixed.clone();
     for (name, _) in numeric_fields(&fields) {
@@ -1029,7 +1029,11 @@ fn run_one(exe: &Path, case: &Path, p: &Planned, threads: usize, allow_read: &[P
     let summary_path = p.dir.join("summary.ron");
     // A case interrupted before (a signal, a cluster's time limit and requeue) with these
     // parameters continues from its checkpoint.
-    let resumable = p.dir.join(crate::checkpoint::CHECKPOINT_DIR).join("state.bin").exists()
+    let resumable = p
+        .dir
+        .join(slosh_case::checkpoint::CHECKPOINT_DIR)
+        .join("state.bin")
+        .exists()
         && read_summary(&summary_path).ok().is_some_and(|s| {
             s.head.status == "interrupted" && same_parameters(&s.head, &p.expected, &p.values)
         });

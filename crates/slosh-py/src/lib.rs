@@ -1,9 +1,10 @@
 //! `slosh._slosh`: the compiled part of the Python package `slosh`.
 //!
-//! It runs case scripts through the same code as `slosh run` (so a run from Python writes
-//! the same output folder, bit for bit), lists a script's parameters, evaluates the closed
-//! forms of `slosh theory` and reads ground-motion records. The pure-Python part of the
-//! package (`python/slosh`) reads a run's folder back into numpy arrays and dictionaries.
+//! It runs case scripts through the same code as `slosh run`, the case runner of
+//! `slosh-case` (so a run from Python writes the same output folder, bit for bit), lists a
+//! script's parameters, evaluates the closed forms of `slosh theory` and reads ground-motion
+//! records. The pure-Python part of the package (`python/slosh`) reads a run's folder back
+//! into numpy arrays and dictionaries.
 #![warn(missing_docs)]
 
 use numpy::PyArray1;
@@ -11,9 +12,9 @@ use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use slosh_cli::{parse_sets, run_case_with_stop, RunOptions};
+use slosh_case::{run_case_with_stop, RunOptions};
 use slosh_motion::{AccelUnit, PlainTextOptions, RecordFormat};
-use slosh_script::{ParamValue, ScriptError as CaseScriptError};
+use slosh_script::{parse_sets, ParamValue, ScriptError as CaseScriptError};
 use std::path::PathBuf;
 use std::str::FromStr;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -54,7 +55,7 @@ fn script_error(py: Python<'_>, error: &CaseScriptError) -> PyErr {
     err
 }
 
-/// An error of the command-line library as a Python exception: a script error keeps its
+/// An error of the case runner as a Python exception: a script error keeps its
 /// type and place, anything else is a `RuntimeError` with the whole chain of causes.
 fn anyhow_error(py: Python<'_>, error: &anyhow::Error) -> PyErr {
     match error.downcast_ref::<CaseScriptError>() {
@@ -101,11 +102,11 @@ fn run_case(
     let case = slosh_script::load_case(&script, &options).map_err(|e| script_error(py, &e))?;
     let checkpoints = match checkpoint_every {
         Some(text) => {
-            let every = slosh_cli::checkpoint::parse_every(&text)
+            let every = slosh_case::checkpoint::parse_every(&text)
                 .map_err(|e| PyValueError::new_err(format!("checkpoint_every {e}")))?;
             match every {
                 Some(every) => Some((
-                    slosh_cli::checkpoint::RunRecord::new(&script, &sets, &[], every)
+                    slosh_case::checkpoint::RunRecord::new(&script, &sets, &[], every)
                         .map_err(|e| anyhow_error(py, &e))?,
                     every,
                 )),

@@ -33,6 +33,6 @@ pub use engine::{resolve_script_path, PlotRequest};
 pub use error::ScriptError;
 pub use memory::SCRIPT_MEMORY_BUDGET_BYTES;
 pub use motion_api::MotionInfo;
-pub use params::{parse_set_value, ParamDecl, ParamValue};
+pub use params::{parse_set_value, parse_sets, ParamDecl, ParamValue, SetArgumentError};
 pub use sandbox::{ReadSandbox, PROJECT_MARKER};
 pub use spec::{GaugeSpec, Resolution, RunSpec, SectionOutlineSpec, SectionRoofSpec, TankSpec};

@@ -119,6 +119,42 @@ pub fn parse_set_value(text: &str) -> ParamValue {
     }
 }
 
+/// A `--set` argument that is not `NAME=VALUE`.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("--set {argument}: {problem}")]
+pub struct SetArgumentError {
+    /// The argument as given.
+    pub argument: String,
+    /// What is wrong with it, and how to write it.
+    pub problem: String,
+}
+
+/// Reads `--set NAME=VALUE` arguments (without the `--set`) into the overrides of a case,
+/// in order, each value as [`parse_set_value`] reads it. Whether the names are parameters
+/// of the script is checked when the case is loaded.
+pub fn parse_sets(sets: &[String]) -> Result<crate::CaseOptions, SetArgumentError> {
+    let mut options = crate::CaseOptions::default();
+    for s in sets {
+        let Some((name, value)) = s.split_once('=') else {
+            return Err(SetArgumentError {
+                argument: s.clone(),
+                problem: "expected NAME=VALUE, e.g. --set duration=6".into(),
+            });
+        };
+        let name = name.trim();
+        if name.is_empty() {
+            return Err(SetArgumentError {
+                argument: s.clone(),
+                problem: "the parameter name is empty".into(),
+            });
+        }
+        options
+            .overrides
+            .push((name.to_string(), parse_set_value(value)));
+    }
+    Ok(options)
+}
+
 /// A parameter the script declared.
 #[derive(Clone, Debug, Serialize)]
 pub struct ParamDecl {
@@ -194,6 +230,26 @@ fn looks_like_unit(text: &str) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn set_arguments_become_overrides_in_order() {
+        let sets = ["duration=3".to_string(), " roof = \"cone\"".to_string()];
+        let options = parse_sets(&sets).unwrap();
+        assert_eq!(
+            options.overrides,
+            vec![
+                ("duration".to_string(), ParamValue::Int(3)),
+                ("roof".to_string(), ParamValue::Str("cone".into())),
+            ]
+        );
+        let err = parse_sets(&["duration".to_string()]).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "--set duration: expected NAME=VALUE, e.g. --set duration=6"
+        );
+        let err = parse_sets(&["=3".to_string()]).unwrap_err();
+        assert_eq!(err.to_string(), "--set =3: the parameter name is empty");
+    }
 
     #[test]
     fn set_values_are_typed_like_the_design_says() {

@@ -12,13 +12,13 @@
 //! per criterion (freeboard, roof).
 
 use super::Manifest;
-use slosh_run::LoadPeak;
-use slosh_run::RoofImpact;
-use crate::spectrum::SpectrumSummary;
 use crate::sweep::Planned;
 use anyhow::{Context, Result};
 use serde::Deserialize;
+use slosh_case::spectrum::SpectrumSummary;
 use slosh_io::{PlotSpec, Series};
+use slosh_run::LoadPeak;
+use slosh_run::RoofImpact;
 use slosh_script::ParamValue;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

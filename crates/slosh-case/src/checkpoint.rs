@@ -42,7 +42,12 @@ pub struct RunRecord {
 
 impl RunRecord {
     /// The record of a run of `script` with `sets` and `allow_read`.
-    pub fn new(script: &Path, sets: &[String], allow_read: &[PathBuf], every: Duration) -> Result<Self> {
+    pub fn new(
+        script: &Path,
+        sets: &[String],
+        allow_read: &[PathBuf],
+        every: Duration,
+    ) -> Result<Self> {
         let text = std::fs::read(script)
             .with_context(|| format!("cannot read the script {}", script.display()))?;
         let working_dir =
@@ -185,9 +190,9 @@ impl CheckpointWriter {
 /// Reads `DIR/checkpoint/state.bin` of the run folder `dir`.
 pub fn read_state<const D: usize>(dir: &Path) -> Result<CheckpointFile<D>> {
     let path = dir.join(CHECKPOINT_DIR).join("state.bin");
-    slosh_io::read_checkpoint(&path).map_err(|e| anyhow::anyhow!(e)).with_context(|| {
-        format!("cannot resume the run in {}", dir.display())
-    })
+    slosh_io::read_checkpoint(&path)
+        .map_err(|e| anyhow::anyhow!(e))
+        .with_context(|| format!("cannot resume the run in {}", dir.display()))
 }
 
 /// A duration of wall time: `600`, `30s`, `10m`, `1.5h`; `0` means never.
@@ -201,7 +206,11 @@ pub fn parse_every(text: &str) -> Result<Option<Duration>, String> {
         's' => 1.0,
         'm' => 60.0,
         'h' => 3600.0,
-        _ => return Err(format!("{text}: use seconds (600, 30s), minutes (10m) or hours (1h)")),
+        _ => {
+            return Err(format!(
+                "{text}: use seconds (600, 30s), minutes (10m) or hours (1h)"
+            ))
+        }
     };
     match number.trim().parse::<f64>() {
         Ok(x) if x == 0.0 => Ok(None),

@@ -1,6 +1,6 @@
 //! The data handed to a script's `post(run)` and the extra files it asks for.
 
-use crate::runner::Summary;
+use crate::summary::Summary;
 use anyhow::Result;
 use slosh_io::{PlotSpec, Series, TableWriter};
 use slosh_script::{PostResult, RunData};

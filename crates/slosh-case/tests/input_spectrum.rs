@@ -1,12 +1,12 @@
 //! The input response spectrum writer: a pure sine input peaks at the sine's period.
 
-use slosh_cli::spectrum::write_input_spectrum;
+use slosh_case::spectrum::write_input_spectrum;
 use std::f64::consts::PI;
 
 #[test]
 fn sine_input_spectrum_peaks_at_the_sine_period() {
     let out = std::env::temp_dir()
-        .join("slosh-cli-tests")
+        .join("slosh-case-tests")
         .join(format!("input-spectrum-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out);
     std::fs::create_dir_all(&out).unwrap();
