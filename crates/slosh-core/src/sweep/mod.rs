@@ -56,7 +56,7 @@ impl<'id> Sweep<'id> {
             index: 0,
             begin: i,
             end: i + 1,
-            writable_end: i + 1,
+            writable: 1,
             _brand: std::marker::PhantomData,
         }
     }
@@ -71,9 +71,9 @@ pub(crate) struct Block<'id> {
     pub(crate) begin: usize,
     /// One past the last slot of the block.
     pub(crate) end: usize,
-    /// One past the last slot the block may write: the end of the next block, at most the
-    /// number of slots of its sweep.
-    writable_end: usize,
+    /// Number of slots from `begin` the block may write: up to the end of the next block,
+    /// at most to the number of slots of its sweep.
+    writable: usize,
     _brand: Brand<'id>,
 }
 
@@ -88,7 +88,8 @@ impl<'id> Block<'id> {
     /// Slot `i` of this block or the next; panics for any other.
     #[inline(always)]
     pub(crate) fn slot(&self, i: usize) -> Slot<'_, 'id> {
-        if i < self.begin || i >= self.writable_end {
+        // One unsigned comparison for begin ≤ i < begin + writable.
+        if i.wrapping_sub(self.begin) >= self.writable {
             slot_outside_block(i, self);
         }
         Slot {
@@ -121,7 +122,9 @@ unsafe impl<T: Send> Sync for SweepSlots<'_, '_, T> {}
 fn slot_outside_block(i: usize, block: &Block) -> ! {
     panic!(
         "pair sweep: slot {i} outside block {} ({}..{})",
-        block.index, block.begin, block.writable_end
+        block.index,
+        block.begin,
+        block.begin + block.writable
     )
 }
 
@@ -243,7 +246,7 @@ pub(crate) fn colour_sweep_listing<'id, F: Fn(&Block<'id>, &mut [u32]) + Sync>(
             index: b,
             begin,
             end,
-            writable_end: bounds.get(b + 2).map_or(end, |&e| e as usize),
+            writable: bounds.get(b + 2).map_or(end, |&e| e as usize) - begin,
             _brand: std::marker::PhantomData,
         };
         let region: &mut [u32] = if capacity == 0 {
