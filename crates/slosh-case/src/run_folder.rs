@@ -52,15 +52,7 @@ impl RunFolder {
     pub fn claim(dir: &Path, case: &str, script: &Path) -> Result<RunFolder> {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("cannot create the output folder {}", dir.display()))?;
-        let lock = dir.join(LOCK_FILE);
-        take_lock(&lock)?;
-        let folder = RunFolder {
-            dir: dir.to_path_buf(),
-            lock,
-            case: case.to_string(),
-            script: script.display().to_string(),
-        };
-        check_is_run_folder(dir)?;
+        let folder = Self::lock(dir, case, script)?;
         remove_earlier_outputs(dir)?;
         folder.write_short_summary("running", None)?;
         Ok(folder)
@@ -69,6 +61,13 @@ impl RunFolder {
     /// Claims `dir` to continue the interrupted run it holds: locked as [`Self::claim`] does,
     /// but its outputs are kept (the run appends to them).
     pub fn claim_to_resume(dir: &Path, case: &str, script: &Path) -> Result<RunFolder> {
+        let folder = Self::lock(dir, case, script)?;
+        folder.write_short_summary("running", None)?;
+        Ok(folder)
+    }
+
+    /// Takes the lock of the existing folder `dir` and checks that it is a run folder.
+    fn lock(dir: &Path, case: &str, script: &Path) -> Result<RunFolder> {
         let lock = dir.join(LOCK_FILE);
         take_lock(&lock)?;
         let folder = RunFolder {
@@ -78,7 +77,6 @@ impl RunFolder {
             script: script.display().to_string(),
         };
         check_is_run_folder(dir)?;
-        folder.write_short_summary("running", None)?;
         Ok(folder)
     }
 

@@ -36,10 +36,10 @@ pub mod neighbours;
 pub mod params;
 pub mod setup;
 pub mod sim;
+pub mod sound_speed;
 mod stages;
 mod sweep;
 mod terms;
-pub mod sound_speed;
 
 pub use error::SimError;
 pub use kernel::{Kernel, KernelKind};
@@ -56,9 +56,9 @@ pub use sound_speed::SoundSpeedChoice;
 #[cfg(test)]
 mod test_tank;
 #[cfg(test)]
-mod tests_golden;
-#[cfg(test)]
 mod tests_checkpoint;
+#[cfg(test)]
+mod tests_golden;
 #[cfg(test)]
 mod tests_modern;
 #[cfg(test)]

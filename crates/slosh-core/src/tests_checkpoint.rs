@@ -26,19 +26,9 @@ fn ground<const D: usize>(t: f64) -> Vector<D> {
 fn run<const D: usize>(params: &SphParams, steps: u64, stop: Option<u64>) -> (Vec<u64>, Vec<u64>) {
     let setup = || {
         if D == 2 {
-            box_tank::<D>(
-                std::array::from_fn(|_| 0.4),
-                0.2,
-                0.02,
-                0.02,
-            )
+            box_tank::<D>(std::array::from_fn(|_| 0.4), 0.2, 0.02, 0.02)
         } else {
-            box_tank::<D>(
-                std::array::from_fn(|k| [0.2, 0.1, 0.2][k]),
-                0.1,
-                0.01,
-                0.02,
-            )
+            box_tank::<D>(std::array::from_fn(|k| [0.2, 0.1, 0.2][k]), 0.1, 0.01, 0.02)
         }
     };
     let mut sim = Simulation::new(setup(), params.clone()).unwrap();
@@ -53,10 +43,15 @@ fn run<const D: usize>(params: &SphParams, steps: u64, stop: Option<u64>) -> (Ve
         sim.step(ground::<D>(t)).unwrap();
     }
     let p = sim.loads().peaks();
-    let peaks = [p.max_roof_p, p.max_roof_force_up, p.max_abs_base_shear_x, sim.time()]
-        .iter()
-        .map(|v| v.to_bits())
-        .collect();
+    let peaks = [
+        p.max_roof_p,
+        p.max_roof_force_up,
+        p.max_abs_base_shear_x,
+        sim.time(),
+    ]
+    .iter()
+    .map(|v| v.to_bits())
+    .collect();
     (fingerprint(&sim), peaks)
 }
 
@@ -101,10 +96,13 @@ fn resumed_runs_are_bit_for_bit_the_same() {
 fn a_state_of_another_tank_is_refused() {
     let params = SphParams::paper().with_paper_stiffness();
     let sim = Simulation::new(box_tank::<2>([0.4, 0.4], 0.2, 0.0, 0.02), params.clone()).unwrap();
-    let mut other =
-        Simulation::new(box_tank::<2>([0.4, 0.4], 0.1, 0.0, 0.02), params).unwrap();
+    let mut other = Simulation::new(box_tank::<2>([0.4, 0.4], 0.1, 0.0, 0.02), params).unwrap();
     let before = fingerprint(&other);
     let err = other.restore(sim.state()).unwrap_err().to_string();
     assert!(err.contains("does not belong to this tank"), "{err}");
-    assert_eq!(fingerprint(&other), before, "a refused state leaves the simulation as it was");
+    assert_eq!(
+        fingerprint(&other),
+        before,
+        "a refused state leaves the simulation as it was"
+    );
 }

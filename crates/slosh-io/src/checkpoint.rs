@@ -88,7 +88,10 @@ pub fn read_checkpoint<T: DeserializeOwned>(path: &Path) -> Result<T> {
         ));
     }
     if crc32fast::hash(payload) != checksum {
-        return Err(invalid(path, "the checkpoint is corrupted (checksum mismatch)"));
+        return Err(invalid(
+            path,
+            "the checkpoint is corrupted (checksum mismatch)",
+        ));
     }
     postcard::from_bytes(payload)
         .map_err(|e| invalid(path, format!("cannot decode the checkpoint: {e}")))
@@ -122,7 +125,13 @@ mod tests {
         let back: Sample = read_checkpoint(&path).unwrap();
         let bits = |s: &Sample| s.values.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&back), bits(&sample()));
-        assert_eq!(back, Sample { values: back.values.clone(), ..sample() });
+        assert_eq!(
+            back,
+            Sample {
+                values: back.values.clone(),
+                ..sample()
+            }
+        );
         assert!(!dir.join("state.bin.part").exists());
         std::fs::remove_dir_all(&dir).ok();
     }

@@ -77,8 +77,8 @@ fn a_failing_motion_ends_the_loop_with_its_message() {
 fn a_case_run_keeps_one_row_per_output_interval() {
     let mut sim = small_tank();
     let mut motion = |t: f64| [0.5 * (10.0 * t).sin(), 0.0, 0.0];
-    let result = run_case(&mut sim, &plan(0.05), &mut motion, &mut (), &mut ())
-        .expect("no observer error");
+    let result =
+        run_case(&mut sim, &plan(0.05), &mut motion, &mut (), &mut ()).expect("no observer error");
     assert!(matches!(result.status, RunStatus::Finished));
     let t = result.column("t").expect("a time column");
     assert_eq!(t.len(), 10, "{t:?}");

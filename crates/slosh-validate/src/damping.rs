@@ -328,8 +328,11 @@ pub(crate) fn free_decay_with(
             let run = match decay_run(ctx, label, params.clone(), (w, d), n, periods) {
                 Ok(r) => r,
                 Err(e) => {
-                    g.checks
-                        .push(failed_run(GROUP, &format!("{label}, {tank}"), &format!("{e:#}")));
+                    g.checks.push(failed_run(
+                        GROUP,
+                        &format!("{label}, {tank}"),
+                        &format!("{e:#}"),
+                    ));
                     continue;
                 }
             };
@@ -534,7 +537,8 @@ pub fn viscous_decay(ctx: &Context) -> GroupResult {
         let k = rectangular_wavenumber(w, 1);
         ctx.say(&format!(
             "  → γ = {gamma:.4} 1/s, exact {:.4} 1/s",
-            free_slip_viscous_mode(w, run.depth, VISCOUS_NU, GRAVITY, 1).map_or(f64::NAN, |s| -s.re)
+            free_slip_viscous_mode(w, run.depth, VISCOUS_NU, GRAVITY, 1)
+                .map_or(f64::NAN, |s| -s.re)
         ));
         match free_slip_viscous_mode(w, run.depth, VISCOUS_NU, GRAVITY, 1) {
             Some(s) => g.checks.push(open_if_failed(

@@ -41,8 +41,10 @@ const STILL_LEVEL_TOL: f64 = 0.005;
 /// What is known of a hydrostatic slope beyond 1 % (an OPEN row, not a failure).
 const SLOPE_GAP: &str = "the same bias is in the 0.5 m laboratory tank at the paper's \
     stiffness (modern +1.8 %, paper particle pressures +2.9 %), so it is the discretisation of \
-    the pressure gradient at this h/dx, not the real-scale numerics; a kernel-gradient \
-    correction is the candidate fix";
+    the pressure gradient at this h/dx, not the real-scale numerics. It is not the free \
+    surface's truncated kernel: fitted only below 2h or 4h under the surface the modern slope \
+    is 1.019–1.020, and the resultant on the side wall is 1.020 ρ0 g H²/2; the Tait density \
+    rise accounts for 1.005. A kernel-gradient correction is the candidate fix";
 /// What is known of the paper scheme's still level beyond 0.5 %.
 const PAPER_LEVEL_GAP: &str = "the paper scheme's summation density starts from a uniform \
     lattice at ρ0 and its surface rows sit below the Tait level by a further ≈ 0.2 %";

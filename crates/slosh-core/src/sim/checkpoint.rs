@@ -99,9 +99,17 @@ impl<const D: usize> Simulation<D> {
             ("density rates", state.fluid_density_rate.len(), n),
             ("particle ids", state.fluid_id.len(), n),
             ("wall densities", state.wall_density.len(), n_wall),
-            ("wall inverse densities", state.wall_inverse_density.len(), n_wall),
+            (
+                "wall inverse densities",
+                state.wall_inverse_density.len(),
+                n_wall,
+            ),
             ("wall pressures", state.wall_pressure.len(), n_wall),
-            ("wall nearest-fluid links", state.wall_nearest_fluid.len(), n_wall),
+            (
+                "wall nearest-fluid links",
+                state.wall_nearest_fluid.len(),
+                n_wall,
+            ),
             (
                 "symplectic start densities",
                 state.density_start.len(),
@@ -122,9 +130,9 @@ impl<const D: usize> Simulation<D> {
                 "the checkpoint's particle ids do not belong to this tank".into(),
             ));
         }
-        self.loads
-            .set_state(state.loads)
-            .map_err(|e| SimError::InvalidSetup(format!("the checkpoint does not belong to this tank: {e}")))?;
+        self.loads.set_state(state.loads).map_err(|e| {
+            SimError::InvalidSetup(format!("the checkpoint does not belong to this tank: {e}"))
+        })?;
         self.time = state.time;
         self.step = state.step;
         self.dt_previous = state.dt_previous;

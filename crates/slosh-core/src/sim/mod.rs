@@ -9,13 +9,10 @@ use crate::neighbours::{CellGrid, KdTreeSearch, NeighbourBackend, NeighbourSearc
 use crate::params::{ArtificialSoundSpeed, SphParams};
 use crate::setup::{ParticleSetup, TankInterior};
 use crate::sound_speed::{choose_sound_speed, compressed_depth, SoundSpeedChoice};
-use nalgebra::{SMatrix, SVector};
-use rayon::prelude::*;
 use crate::stages::*;
 use crate::sweep::*;
-
-
-
+use nalgebra::{SMatrix, SVector};
+use rayon::prelude::*;
 
 /// A position, velocity or force vector in D dimensions.
 pub type Vector<const D: usize> = SVector<f64, D>;
@@ -145,7 +142,6 @@ pub struct Simulation<const D: usize> {
     /// Fluid → wall density sums of the sorted density pass.
     pub(crate) wall_scatter: WallScatter,
 }
-
 
 impl<const D: usize> Simulation<D> {
     /// Builds a simulation from a tank's particles and the solver parameters.
@@ -476,7 +472,6 @@ impl<const D: usize> Simulation<D> {
         &mut self.loads
     }
 
-
     pub(crate) fn max_speed_and_acceleration(&self) -> (f64, f64) {
         let (v2, a2) = self
             .fluid
@@ -488,7 +483,6 @@ impl<const D: usize> Simulation<D> {
             .reduce(|| (0.0, 0.0), |x, y| (x.0.max(y.0), x.1.max(y.1)));
         (v2.sqrt(), a2.sqrt())
     }
-
 
     /// Turns the particle counts of [`particle_status`] into the blow-up error of the step
     /// that ends at time + dt.

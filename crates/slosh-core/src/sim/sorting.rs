@@ -97,7 +97,6 @@ impl<const D: usize> Simulation<D> {
         grid.colour_blocks(target, &mut self.blocks);
     }
 
-
     /// Sorts every fluid array (and the per-particle buffers of the modern step) by cell with
     /// the search grid, re-indexes the grid and splits the fluid into sweep blocks (the modern
     /// step with the cell grid does this every step, for the pair sweeps).
@@ -134,7 +133,11 @@ impl<const D: usize> Simulation<D> {
 }
 
 /// Reorders `values` by `order` (new[k] = old[order[k]]) through a scratch buffer.
-pub(crate) fn permute<T: Copy + Send + Sync>(values: &mut Vec<T>, order: &[u32], scratch: &mut Vec<T>) {
+pub(crate) fn permute<T: Copy + Send + Sync>(
+    values: &mut Vec<T>,
+    order: &[u32],
+    scratch: &mut Vec<T>,
+) {
     // The scratch vector has the right length but possibly another element type's buffer
     // is kept elsewhere; here each type has its own.
     scratch.clear();
@@ -144,7 +147,11 @@ pub(crate) fn permute<T: Copy + Send + Sync>(values: &mut Vec<T>, order: &[u32],
 
 /// Reorders `values` by `order` (new[k] = old[order[k]]) through a scratch buffer of the same
 /// length, in parallel.
-pub(crate) fn permute_par<T: Copy + Send + Sync>(values: &mut Vec<T>, order: &[u32], scratch: &mut Vec<T>) {
+pub(crate) fn permute_par<T: Copy + Send + Sync>(
+    values: &mut Vec<T>,
+    order: &[u32],
+    scratch: &mut Vec<T>,
+) {
     debug_assert_eq!(scratch.len(), values.len());
     let source = &*values;
     scratch

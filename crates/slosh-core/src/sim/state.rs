@@ -1,9 +1,8 @@
 //! The particle arrays and the per-run constants of the passes.
 
 use crate::kernel::Kernel;
-use crate::sim::*;
 use crate::params::{DensityDiffusion, DensityMethod, Integrator, SphParams};
-
+use crate::sim::*;
 
 /// Chunk length for rayon loops: large enough to amortise scheduling.
 pub(crate) const PAR_CHUNK: usize = 256;
@@ -102,7 +101,6 @@ pub struct Walls<const D: usize> {
     pub layer: Vec<u8>,
 }
 
-
 #[derive(Clone, Copy)]
 pub(crate) struct PassConstants {
     pub(crate) kernel: Kernel,
@@ -139,7 +137,6 @@ impl PassConstants {
         }
     }
 }
-
 
 /// (non-finite particles, particles outside the domain, the first one outside).
 pub(crate) type ParticleStatus<const D: usize> = (usize, usize, Option<Vector<D>>);
@@ -203,9 +200,8 @@ impl<const D: usize> StageBuffers<D> {
         let continuity = params.density == DensityMethod::Continuity;
         let delta = match params.density_diffusion {
             DensityDiffusion::None => 0.0,
-            DensityDiffusion::MolteniColagrossi { delta } | DensityDiffusion::Fourtakas { delta } => {
-                delta
-            }
+            DensityDiffusion::MolteniColagrossi { delta }
+            | DensityDiffusion::Fourtakas { delta } => delta,
         };
         let fourtakas = continuity
             && matches!(params.density_diffusion, DensityDiffusion::Fourtakas { delta } if delta > 0.0);

@@ -96,7 +96,11 @@ impl<const D: usize> Simulation<D> {
     pub(crate) fn initial_state(&mut self) {
         let c = self.constants;
         if matches!(self.plan.density, DensityStage::Continuity { .. }) {
-            let (g, level, inv_gamma) = (self.params.gravity, self.fill_level, self.buffers.k.inv_gamma);
+            let (g, level, inv_gamma) = (
+                self.params.gravity,
+                self.fill_level,
+                self.buffers.k.inv_gamma,
+            );
             for ((rho, inv), (x, p)) in self
                 .fluid
                 .density
@@ -139,9 +143,13 @@ impl<const D: usize> Simulation<D> {
                 hydrostatic,
             } => {
                 match (velocity_gradient, &self.search) {
-                    (Some(PairSweep::Half), Search::Grid(s)) => {
-                        strain_pass_sorted(s, &self.blocks, &c, &mut self.fluid, &self.walls.position)
-                    }
+                    (Some(PairSweep::Half), Search::Grid(s)) => strain_pass_sorted(
+                        s,
+                        &self.blocks,
+                        &c,
+                        &mut self.fluid,
+                        &self.walls.position,
+                    ),
                     (Some(_), search) => {
                         with_search!(search, s => strain_pass(s, &c, &mut self.fluid))
                     }

@@ -18,36 +18,27 @@ impl<const D: usize> Simulation<D> {
         // The acceleration leaves the fluid while the pass reads the rest of it (no
         // allocation: an empty Vec stands in).
         let mut acceleration = std::mem::take(&mut self.fluid.acceleration);
-        match (sweep, &self.search) {
-            (PairSweep::Half, Search::Grid(grid)) => {
-                acceleration
-                    .par_iter_mut()
-                    .with_min_len(PAR_CHUNK)
-                    .for_each(|a| *a = body_force);
-                let (fluid, walls, blocks) = (&self.fluid, &self.walls, &self.blocks);
-                Sweep::scope(fluid.position.len(), |sweep| {
-                    let acceleration = sweep.slots(&mut acceleration);
-                    let pass = Momentum::new(&c, fluid, walls, acceleration, body_force);
-                    half_sweep(
-                        sweep,
-                        grid,
-                        blocks,
-                        Some(&fluid.neighbours),
-                        c.support_sq,
-                        &pass,
-                    );
-                });
-            }
-            (_, search) => {
-                let (fluid, walls) = (&self.fluid, &self.walls);
-                Sweep::scope(fluid.position.len(), |sweep| {
-                    let acceleration = sweep.slots(&mut acceleration);
-                    let pass = Momentum::new(&c, fluid, walls, acceleration, body_force);
-                    let lists = Some(&fluid.neighbours);
-                    with_search!(search, s => full_sweep(sweep, s, lists, c.support_sq, &pass));
-                });
-            }
+        let half_grid = match (sweep, &self.search) {
+            (PairSweep::Half, Search::Grid(grid)) => Some(grid),
+            _ => None,
+        };
+        if half_grid.is_some() {
+            // The half sweep adds each pair to both particles: start from the body force.
+            acceleration
+                .par_iter_mut()
+                .with_min_len(PAR_CHUNK)
+                .for_each(|a| *a = body_force);
         }
+        let (fluid, walls, blocks, search) = (&self.fluid, &self.walls, &self.blocks, &self.search);
+        Sweep::scope(fluid.position.len(), |sweep| {
+            let acceleration = sweep.slots(&mut acceleration);
+            let pass = Momentum::new(&c, fluid, walls, acceleration, body_force);
+            let lists = Some(&fluid.neighbours);
+            match half_grid {
+                Some(grid) => half_sweep(sweep, grid, blocks, lists, c.support_sq, &pass),
+                None => with_search!(search, s => full_sweep(sweep, s, lists, c.support_sq, &pass)),
+            }
+        });
         self.fluid.acceleration = acceleration;
     }
 
@@ -150,53 +141,48 @@ impl<const D: usize> CoupledRun<D> {
         let c = sim.constants;
         let body_force = self.body_force;
         let mut out = ForceOutputs::take(&mut sim.fluid, &mut sim.buffers);
-        match (self.sweep, &sim.search) {
-            (PairSweep::Half, Search::Grid(grid)) => {
-                out.acceleration
-                    .par_iter_mut()
-                    .zip(out.density_rate.par_iter_mut())
-                    .with_min_len(PAR_CHUNK)
-                    .for_each(|(a, d)| {
-                        *a = body_force;
-                        *d = 0.0;
-                    });
-                out.shift_gradient
-                    .par_iter_mut()
-                    .zip(out.shift_kernel_sum.par_iter_mut())
-                    .with_min_len(PAR_CHUNK)
-                    .for_each(|(g, s)| {
-                        *g = Vector::<D>::zeros();
-                        *s = 0.0;
-                    });
-                let lists = self.lists.then_some(&sim.fluid.neighbours);
-                Sweep::scope(sim.fluid.position.len(), |sweep| {
-                    let pass = Coupled::<D, R, W, SHIFT>::new(
-                        &c,
-                        &sim.fluid,
-                        &sim.walls,
-                        &sim.buffers,
-                        &mut out,
-                        sweep,
-                        body_force,
-                    );
-                    half_sweep(sweep, grid, &sim.blocks, lists, c.support_sq, &pass);
+        let half_grid = match (self.sweep, &sim.search) {
+            (PairSweep::Half, Search::Grid(grid)) => Some(grid),
+            _ => None,
+        };
+        if half_grid.is_some() {
+            // The half sweep adds each pair to both particles: start from the body force
+            // and zero sums.
+            out.acceleration
+                .par_iter_mut()
+                .zip(out.density_rate.par_iter_mut())
+                .with_min_len(PAR_CHUNK)
+                .for_each(|(a, d)| {
+                    *a = body_force;
+                    *d = 0.0;
                 });
-            }
-            (_, search) => {
-                Sweep::scope(sim.fluid.position.len(), |sweep| {
-                    let pass = Coupled::<D, R, W, SHIFT>::new(
-                        &c,
-                        &sim.fluid,
-                        &sim.walls,
-                        &sim.buffers,
-                        &mut out,
-                        sweep,
-                        body_force,
-                    );
-                    with_search!(search, s => full_sweep(sweep, s, None, c.support_sq, &pass));
+            out.shift_gradient
+                .par_iter_mut()
+                .zip(out.shift_kernel_sum.par_iter_mut())
+                .with_min_len(PAR_CHUNK)
+                .for_each(|(g, s)| {
+                    *g = Vector::<D>::zeros();
+                    *s = 0.0;
                 });
-            }
         }
+        let lists = self.lists.then_some(&sim.fluid.neighbours);
+        Sweep::scope(sim.fluid.position.len(), |sweep| {
+            let pass = Coupled::<D, R, W, SHIFT>::new(
+                &c,
+                &sim.fluid,
+                &sim.walls,
+                &sim.buffers,
+                &mut out,
+                sweep,
+                body_force,
+            );
+            match half_grid {
+                Some(grid) => half_sweep(sweep, grid, &sim.blocks, lists, c.support_sq, &pass),
+                None => {
+                    with_search!(&sim.search, s => full_sweep(sweep, s, None, c.support_sq, &pass))
+                }
+            }
+        });
         out.restore(&mut sim.fluid, &mut sim.buffers);
     }
 }

@@ -16,7 +16,6 @@ mod symplectic;
 mod walls;
 pub(crate) use continuity::*;
 
-
 pub(crate) use walls::*;
 
 use crate::params::{BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, SphParams};

@@ -4,7 +4,6 @@ use crate::sim::*;
 use rayon::prelude::*;
 
 impl<const D: usize> Simulation<D> {
-
     /// Particle shifting (Lind et al. 2012; the |v| dt scaling of Skillen et al. 2013):
     /// δx_i = −A h |v_i| dt ∇C_i, capped at 0.1 dx, skipped near the free surface.
     pub(crate) fn apply_shifting(&mut self, dt: f64) {

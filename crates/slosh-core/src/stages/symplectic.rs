@@ -6,7 +6,6 @@ use crate::stages::DensityStage;
 use rayon::prelude::*;
 
 impl<const D: usize> Simulation<D> {
-
     /// Symplectic predictor: x^{n+½} = x^n + dt/2 v^n; the mid-step velocity estimate
     /// v^n + dt/2 a^{n−½} for the velocity-dependent terms (artificial viscosity, strain rate,
     /// dρ/dt); with continuity ρ^{n+½} = ρ^n + dt/2 Dρ, Dρ the latest rate (that of n−½: one
@@ -83,7 +82,6 @@ impl<const D: usize> Simulation<D> {
                 });
         }
     }
-
 
     /// Non-finite and out-of-domain checks after a symplectic update.
     pub(crate) fn check_particles(&self, dt: f64) -> Result<(), SimError> {

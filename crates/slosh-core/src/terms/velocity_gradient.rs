@@ -20,7 +20,10 @@ pub(crate) fn velocity_gradient_share<const D: usize>(
 
 /// The tensor (v_j − v_i) ⊗ ∇_i W_ij of a pair, to be scaled by V_j for i and by V_i for j.
 #[inline(always)]
-pub(crate) fn velocity_gradient_pair<const D: usize>(v_ji: Vector<D>, grad_w: Vector<D>) -> Tensor<D> {
+pub(crate) fn velocity_gradient_pair<const D: usize>(
+    v_ji: Vector<D>,
+    grad_w: Vector<D>,
+) -> Tensor<D> {
     v_ji * grad_w.transpose()
 }
 

@@ -136,4 +136,3 @@ pub(crate) fn wall_strain_pass<const D: usize, S: NeighbourSearch<D>>(
             *strain_out += strain_rate_of(&grad_v);
         });
 }
-
