@@ -295,7 +295,7 @@ pub fn forced_from_rest(ctx: &Context) -> GroupResult {
         ("paper scheme".into(), Scheme::paper().params, SETTLE, 1.0, true),
     ];
     if !ctx.quick {
-        let variants: [(&str, fn(&mut SphParams)); 7] = [
+        let variants: [(&str, fn(&mut SphParams)); 9] = [
             ("modern, no wall-pressure floor", |p| p.wall_separation = false),
             ("modern, cubic spline h = 1.3 dx", |p| {
                 p.kernel = KernelKind::CubicSpline;
@@ -311,6 +311,13 @@ pub fn forced_from_rest(ctx: &Context) -> GroupResult {
             ("modern, α = 0.01 with the paper's c (Eq. 17)", |p| {
                 p.av_alpha = 0.01;
                 p.av_sound_speed = slosh_core::ArtificialSoundSpeed::Eq17;
+            }),
+            ("modern, Riemann pair with δ-SPH (Zhang, Hu & Adams 2017)", |p| {
+                p.pair_scheme = slosh_core::PairScheme::Riemann;
+            }),
+            ("modern, Riemann pair without δ-SPH", |p| {
+                p.pair_scheme = slosh_core::PairScheme::Riemann;
+                p.density_diffusion = DensityDiffusion::None;
             }),
         ];
         for (label, f) in variants {
