@@ -19,7 +19,7 @@
 use anyhow::{bail, Context, Result};
 use rayon::ThreadPool;
 use slosh_core::{
-    NeighbourBackend, ParticleSetup, PhaseTimes, Simulation, SphParams, Tensor, Vector,
+    NeighbourBackend, PairScheme, ParticleSetup, PhaseTimes, Simulation, SphParams, Tensor, Vector,
 };
 use slosh_geometry::{CylinderTank, RectTank2, Roof};
 use std::fmt::Write as _;
@@ -148,7 +148,7 @@ pub fn select_cases(quick: bool, names: Option<&[String]>) -> Result<Vec<BenchCa
 pub struct BenchRow {
     pub case: String,
     pub dim: usize,
-    /// "paper" or "modern".
+    /// "paper", "modern" or "modern-riemann".
     pub scheme: &'static str,
     pub backend: &'static str,
     /// Threads of the rayon pool the steps ran in.
@@ -273,6 +273,9 @@ pub struct BenchConfig {
     /// The scheme timed: the paper's (default) or the modern preset (symplectic, continuity
     /// density with δ-SPH, Adami walls, Wendland C2: the physics of the reference code).
     pub modern: bool,
+    /// With `modern`: the Riemann-solver pair of Zhang, Hu & Adams 2017 in place of Eq. 8
+    /// (`pair_scheme: "riemann"`).
+    pub riemann: bool,
     /// Print the table and the checks.
     pub verbose: bool,
 }
@@ -289,10 +292,13 @@ pub fn cli_bench(
     only_cases: Option<Vec<String>>,
     scheme: &str,
 ) -> Result<()> {
-    let modern = match scheme {
-        "paper" => false,
-        "modern" => true,
-        other => bail!("unknown scheme '{other}' for bench: use paper or modern"),
+    let (modern, riemann) = match scheme {
+        "paper" => (false, false),
+        "modern" => (true, false),
+        "modern-riemann" => (true, true),
+        other => {
+            bail!("unknown scheme '{other}' for bench: use paper, modern or modern-riemann")
+        }
     };
     let machine = std::thread::available_parallelism()
         .map(|n| n.get())
@@ -312,6 +318,7 @@ pub fn cli_bench(
     let config = BenchConfig {
         threads,
         modern,
+        riemann,
         verbose: true,
     };
     println!(
@@ -433,7 +440,14 @@ fn run_case<const D: usize>(
     reset_peak_rss();
     let rss_before = proc_status_kib("VmRSS:").unwrap_or(0) as f64 * 1024.0;
     let preset = if config.modern {
-        SphParams::modern()
+        SphParams {
+            pair_scheme: if config.riemann {
+                PairScheme::Riemann
+            } else {
+                PairScheme::Standard
+            },
+            ..SphParams::modern()
+        }
     } else {
         SphParams::paper()
     };
@@ -522,7 +536,11 @@ fn run_case<const D: usize>(
         let row = BenchRow {
             case: case.name.to_string(),
             dim: D,
-            scheme: if config.modern { "modern" } else { "paper" },
+            scheme: match (config.modern, config.riemann) {
+                (false, _) => "paper",
+                (true, false) => "modern",
+                (true, true) => "modern-riemann",
+            },
             backend: backend_name(backend),
             threads,
             dx: case.dx,
@@ -916,6 +934,7 @@ mod tests {
         let config = BenchConfig {
             threads: vec![2, 1],
             modern: false,
+            riemann: false,
             verbose: false,
         };
         let rows = run_bench(&[case], &config, &out).unwrap();
@@ -954,6 +973,7 @@ mod tests {
         let modern = BenchConfig {
             threads: vec![1],
             modern: true,
+            riemann: false,
             verbose: false,
         };
         let case = BenchCase {

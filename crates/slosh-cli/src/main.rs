@@ -54,7 +54,8 @@ struct BenchArgs {
     /// Only these cases, comma-separated (e.g. `--case 2d-80k`); names as in bench.csv.
     #[arg(long, value_delimiter = ',')]
     case: Option<Vec<String>>,
-    /// Scheme to time: paper (default) or modern (symplectic, δ-SPH, Adami walls).
+    /// Scheme to time: paper (default), modern (symplectic, δ-SPH, Adami walls) or
+    /// modern-riemann (the modern preset with the Riemann-solver pair).
     #[arg(long, default_value = "paper")]
     scheme: String,
 }

@@ -47,7 +47,7 @@ pub use loads::{LoadEvaluator, LoadPeaks, LoadState, PartLoads};
 pub use neighbours::{CellGrid, KdTreeSearch, NeighbourBackend, NeighbourSearch};
 pub use params::{
     ArtificialSoundSpeed, BoundaryMethod, DensityDiffusion, DensityMethod, Integrator,
-    SoundSpeedRule, SphParams, WallPressureMethod, PAPER_EOS_STIFFNESS,
+    PairScheme, SoundSpeedRule, SphParams, WallPressureMethod, PAPER_EOS_STIFFNESS,
 };
 pub use setup::{ParticleSetup, TankInterior, PART_BOTTOM, PART_ROOF, PART_WALL};
 pub use sim::{Fluid, PhaseTimes, SimState, Simulation, StepStats, Tensor, Vector, Walls};
@@ -63,3 +63,5 @@ mod tests_golden;
 mod tests_modern;
 #[cfg(test)]
 mod tests_physics;
+#[cfg(test)]
+mod tests_riemann;

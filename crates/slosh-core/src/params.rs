@@ -110,6 +110,30 @@ pub enum ArtificialSoundSpeed {
     Fixed(f64),
 }
 
+/// The momentum and continuity pair of the modern step (the coupled force pass).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum PairScheme {
+    /// Paper Eq. 8 (pressure p_i + p_j, Monaghan's artificial viscosity Π_ij, viscous stress)
+    /// with the continuity equation dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij (Monaghan 1992).
+    #[default]
+    Standard,
+    /// The Riemann-solver pair of Zhang, Hu & Adams 2017 (*J. Comput. Phys.* 335, 605–620):
+    /// the interface pressure P* and velocity U* of the linearised 1D Riemann problem along
+    /// each pair, with their low-dissipation limiter β = min(3 max(U_L − U_R, 0), c̄) on P*,
+    /// in place of p_i + p_j, Π_ij and the continuity flux; the viscous stress of Eq. 8 stays.
+    /// Needs continuity density and Adami walls (the wall's extrapolated pressure and velocity
+    /// are the right state).
+    Riemann,
+}
+
+impl PairScheme {
+    /// Whether this is [`PairScheme::Standard`] (the summary leaves the default out, so that
+    /// the summaries of runs without the Riemann pair read as before).
+    pub fn is_standard(&self) -> bool {
+        *self == PairScheme::Standard
+    }
+}
+
 /// Time integrator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Integrator {
@@ -200,6 +224,11 @@ pub struct SphParams {
     /// free surface (Σ_j V_j W_ij below `free_surface_threshold`) and capped at 0.1 dx.
     /// Only with the modern step (continuity density, Adami walls or symplectic integrator).
     pub shifting: Option<f64>,
+    /// The momentum and continuity pair of the modern step (default: Eq. 8 with Monaghan's
+    /// continuity equation). With [`PairScheme::Riemann`] the artificial viscosity (`av_alpha`,
+    /// `av_beta`) is not used: the Riemann solver's limiter takes its place.
+    #[serde(default, skip_serializing_if = "PairScheme::is_standard")]
+    pub pair_scheme: PairScheme,
 }
 
 /// The paper's Tait stiffness B = 1.013×10⁵ Pa (Eq. 18; c0 = 26.6 m/s with γ = 7), right for
@@ -239,6 +268,7 @@ impl Default for SphParams {
             wall_no_slip: false,
             integrator: Integrator::LeapFrog,
             shifting: None,
+            pair_scheme: PairScheme::Standard,
         }
     }
 }

@@ -134,7 +134,7 @@ fn omega1(width: f64, depth: f64, g: f64) -> f64 {
 /// Free sloshing from a tilted surface (tilt at the left wall): the period of the fluid's
 /// centre-of-mass oscillation along x, from its crossings of the tank centre line (the first
 /// crossing skipped). Returns (period, theory, relative error).
-fn free_sloshing_period(params: SphParams, width: f64, depth: f64, dx: f64) -> (f64, f64, f64) {
+pub(crate) fn free_sloshing_period(params: SphParams, width: f64, depth: f64, dx: f64) -> (f64, f64, f64) {
     let setup = box_tank::<2>([width, 2.0 * depth], depth, 0.02, dx);
     let mut sim = Simulation::new(setup, params).unwrap();
     let h_still = sim.still_level();
@@ -168,7 +168,7 @@ fn free_sloshing_period(params: SphParams, width: f64, depth: f64, dx: f64) -> (
 /// Hydrostatics after `t_end` s of settling in a 1.0 m × 1.0 m tank filled to 0.5 m:
 /// least-squares slope of p against ρ0 g d (d below the still level) and the RMS of
 /// p − ρ0 g d over all fluid particles, normalised by ρ0 g H.
-fn hydrostatics(params: SphParams, t_end: f64) -> (f64, f64) {
+pub(crate) fn hydrostatics(params: SphParams, t_end: f64) -> (f64, f64) {
     let setup = box_tank::<2>([1.0, 1.0], 0.5, 0.0, 0.02);
     let mut sim = Simulation::new(setup, params).unwrap();
     while sim.time() < t_end {

@@ -4,7 +4,7 @@ use rhai::{Dynamic, Map};
 use serde::Serialize;
 use slosh_core::{
     ArtificialSoundSpeed, BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, KernelKind,
-    NeighbourBackend, SoundSpeedRule, SphParams, WallPressureMethod,
+    NeighbourBackend, PairScheme, SoundSpeedRule, SphParams, WallPressureMethod,
 };
 use slosh_geometry::{
     bounding_box_2d, InitialSurface, SectionRoof, SectionShape, SectionTank2, Solid2,
@@ -1075,6 +1075,18 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, Resolut
         ));
     }
     p.shifting = if shifting > 0.0 { Some(shifting) } else { None };
+    p.pair_scheme = match r
+        .str_or("pair_scheme", pair_scheme_name(p.pair_scheme))?
+        .as_str()
+    {
+        "standard" => PairScheme::Standard,
+        "riemann" => PairScheme::Riemann,
+        other => {
+            return Err(format!(
+                "numerics: unknown pair_scheme \"{other}\" (use \"standard\" or \"riemann\")"
+            ))
+        }
+    };
     p.pressure_smoothing_eps = r.f64_or("smoothing_eps", p.pressure_smoothing_eps)?;
     p.smoothing_steps = r.usize_or("smoothing_steps", p.smoothing_steps)?;
     r.finish()?;
@@ -1140,6 +1152,13 @@ fn boundary_name(b: BoundaryMethod) -> &'static str {
     match b {
         BoundaryMethod::Dynamic => "dynamic",
         BoundaryMethod::Adami => "adami",
+    }
+}
+
+fn pair_scheme_name(s: PairScheme) -> &'static str {
+    match s {
+        PairScheme::Standard => "standard",
+        PairScheme::Riemann => "riemann",
     }
 }
 
@@ -1211,6 +1230,13 @@ mod tests {
         assert_eq!(p.boundary, BoundaryMethod::Dynamic);
         assert_eq!(p.integrator, Integrator::LeapFrog);
         assert_eq!(p.shifting, Some(2.0));
+        assert_eq!(p.pair_scheme, PairScheme::Standard);
+        let (p, _, _) = numerics(&[
+            ("scheme", "modern".into()),
+            ("pair_scheme", "riemann".into()),
+        ])
+        .unwrap();
+        assert_eq!(p.pair_scheme, PairScheme::Riemann);
         // The paper scheme is SphParams::default().
         let (p, _, _) = numerics(&[]).unwrap();
         assert!(!p.uses_modern_step());
@@ -1440,6 +1466,7 @@ mod tests {
             ("density_diffusion", "delta", "fourtakas"),
             ("boundary", "mirror", "adami"),
             ("integrator", "euler", "symplectic"),
+            ("pair_scheme", "godunov", "riemann"),
         ] {
             let err = numerics(&[(key, value.into())]).unwrap_err();
             assert!(err.contains(value) && err.contains(hint), "{err}");

@@ -435,6 +435,14 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             ),
         ));
         all.push((
+            "modern scheme: riemann pair, hydrostatics and roof impact",
+            one(
+                "Modern scheme: Riemann pair (Zhang, Hu & Adams 2017), hydrostatics and roof \
+                 impact (measured, not judged)",
+                modern::riemann_pair,
+            ),
+        ));
+        all.push((
             "modern scheme: sloshing damping (free decay)",
             one(
                 "Modern scheme: sloshing damping (free decay)",

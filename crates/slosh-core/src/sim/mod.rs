@@ -195,6 +195,17 @@ impl<const D: usize> Simulation<D> {
                 )));
             }
         }
+        if params.pair_scheme == crate::params::PairScheme::Riemann
+            && (params.density != crate::params::DensityMethod::Continuity
+                || params.boundary != crate::params::BoundaryMethod::Adami)
+        {
+            return Err(SimError::InvalidSetup(
+                "the Riemann pair (pair_scheme \"riemann\") integrates the density with its own \
+                 continuity flux against Adami walls: use it with density \"continuity\" and \
+                 boundary \"adami\" (as in scheme \"modern\")"
+                    .into(),
+            ));
+        }
         if params.dynamic_viscosity < 0.0 || params.av_alpha < 0.0 || params.av_beta < 0.0 {
             return Err(SimError::InvalidSetup(
                 "viscosity coefficients (dynamic_viscosity, av_alpha, av_beta) must be ≥ 0".into(),
@@ -251,6 +262,7 @@ impl<const D: usize> Simulation<D> {
             av_alpha: params.av_alpha,
             av_beta: params.av_beta,
             av_sound_speed,
+            eos_sound_speed: sound_speed,
         };
 
         // Domain: the bounding box of all particles, with room above for waves in open tanks.

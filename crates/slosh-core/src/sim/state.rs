@@ -118,6 +118,8 @@ pub(crate) struct PassConstants {
     pub(crate) av_alpha: f64,
     pub(crate) av_beta: f64,
     pub(crate) av_sound_speed: f64,
+    /// c0 = √(γ B/ρ0) of the EOS (m/s), the c̄ of the Riemann pair.
+    pub(crate) eos_sound_speed: f64,
 }
 
 impl PassConstants {

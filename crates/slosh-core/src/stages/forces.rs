@@ -3,7 +3,7 @@
 //! ([`crate::terms::Momentum`], [`crate::terms::Coupled`]), over the pairs of the half or
 //! the full sweep ([`crate::sweep::half_sweep`], [`crate::sweep::full_sweep`]).
 
-use super::{CoupledForce, DensityRate, PairSweep, WallForce};
+use super::{CoupledForce, DensityRate, MomentumPair, PairSweep, WallForce};
 use crate::sim::*;
 use crate::sweep::{full_sweep, half_sweep, Sweep};
 use crate::terms::*;
@@ -58,9 +58,11 @@ impl<const D: usize> Simulation<D> {
             body_force,
             wall_force: force.wall_force,
             shifting_sums: force.shifting_sums,
+            pair: force.pair,
         };
-        // The pass's 24 variants per dimension are compiled once, here, by the two
-        // functions below, rather than again in every crate that steps a simulation.
+        // The pass's 36 variants per dimension (24 with Eq. 8, 12 with the Riemann pair) are
+        // compiled once, here, by the two functions below, rather than again in every crate
+        // that steps a simulation.
         let sim: &mut dyn std::any::Any = self;
         if let Some(sim) = sim.downcast_mut::<Simulation<2>>() {
             coupled_pass_2d(sim, &run.in_dimension(), force.density_rate);
@@ -91,6 +93,7 @@ struct CoupledRun<const D: usize> {
     body_force: Vector<D>,
     wall_force: WallForce,
     shifting_sums: bool,
+    pair: MomentumPair,
 }
 
 impl<const D: usize> CoupledRun<D> {
@@ -106,35 +109,72 @@ impl<const D: usize> CoupledRun<D> {
             body_force,
             wall_force: self.wall_force,
             shifting_sums: self.shifting_sums,
+            pair: self.pair,
         }
     }
 
     fn with_density_rate(&self, sim: &mut Simulation<D>, density_rate: DensityRate) {
-        match density_rate {
-            DensityRate::None => self.with_walls::<NoDensityRate>(sim),
-            DensityRate::Continuity => self.with_walls::<ContinuityOnly>(sim),
-            DensityRate::MolteniColagrossi => self.with_walls::<MolteniColagrossiDiffusion>(sim),
-            DensityRate::Fourtakas => self.with_walls::<FourtakasDiffusion>(sim),
+        match self.pair {
+            MomentumPair::Eq8 => match density_rate {
+                DensityRate::None => self.with_walls::<NoDensityRate>(sim),
+                DensityRate::Continuity => self.with_walls::<ContinuityOnly>(sim),
+                DensityRate::MolteniColagrossi => {
+                    self.with_walls::<MolteniColagrossiDiffusion>(sim)
+                }
+                DensityRate::Fourtakas => self.with_walls::<FourtakasDiffusion>(sim),
+            },
+            // The Riemann pair integrates the density against Adami walls (Simulation::new
+            // refuses it otherwise).
+            MomentumPair::Riemann => match density_rate {
+                DensityRate::None => {
+                    unreachable!("Simulation::new refuses the Riemann pair without continuity")
+                }
+                DensityRate::Continuity => self.with_adami_walls::<ContinuityOnly>(sim),
+                DensityRate::MolteniColagrossi => {
+                    self.with_adami_walls::<MolteniColagrossiDiffusion>(sim)
+                }
+                DensityRate::Fourtakas => self.with_adami_walls::<FourtakasDiffusion>(sim),
+            },
         }
     }
 
     fn with_walls<R: DensityRateTerm>(&self, sim: &mut Simulation<D>) {
         match self.wall_force {
-            WallForce::Dynamic => self.with_shifting::<R, DynamicWallForce>(sim),
-            WallForce::AdamiFreeSlip => self.with_shifting::<R, AdamiFreeSlipForce>(sim),
-            WallForce::AdamiNoSlip => self.with_shifting::<R, AdamiNoSlipForce>(sim),
+            WallForce::Dynamic => self.with_shifting::<R, DynamicWallForce, Eq8Pair>(sim),
+            WallForce::AdamiFreeSlip => self.with_shifting::<R, AdamiFreeSlipForce, Eq8Pair>(sim),
+            WallForce::AdamiNoSlip => self.with_shifting::<R, AdamiNoSlipForce, Eq8Pair>(sim),
         }
     }
 
-    fn with_shifting<R: DensityRateTerm, W: WallForceTerm>(&self, sim: &mut Simulation<D>) {
+    fn with_adami_walls<R: DensityRateTerm>(&self, sim: &mut Simulation<D>) {
+        match self.wall_force {
+            WallForce::Dynamic => {
+                unreachable!("Simulation::new refuses the Riemann pair with dynamic walls")
+            }
+            WallForce::AdamiFreeSlip => {
+                self.with_shifting::<R, AdamiFreeSlipForce, RiemannPair>(sim)
+            }
+            WallForce::AdamiNoSlip => self.with_shifting::<R, AdamiNoSlipForce, RiemannPair>(sim),
+        }
+    }
+
+    fn with_shifting<R: DensityRateTerm, W: WallForceTerm, F: MomentumContinuityPair<D>>(
+        &self,
+        sim: &mut Simulation<D>,
+    ) {
         if self.shifting_sums {
-            self.pass::<R, W, true>(sim)
+            self.pass::<R, W, F, true>(sim)
         } else {
-            self.pass::<R, W, false>(sim)
+            self.pass::<R, W, F, false>(sim)
         }
     }
 
-    fn pass<R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool>(
+    fn pass<
+        R: DensityRateTerm,
+        W: WallForceTerm,
+        F: MomentumContinuityPair<D>,
+        const SHIFT: bool,
+    >(
         &self,
         sim: &mut Simulation<D>,
     ) {
@@ -167,7 +207,7 @@ impl<const D: usize> CoupledRun<D> {
         }
         let lists = self.lists.then_some(&sim.fluid.neighbours);
         Sweep::scope(sim.fluid.position.len(), |sweep| {
-            let pass = Coupled::<D, R, W, SHIFT>::new(
+            let pass = Coupled::<D, R, W, F, SHIFT>::new(
                 &c,
                 &sim.fluid,
                 &sim.walls,

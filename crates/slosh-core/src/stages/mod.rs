@@ -18,7 +18,9 @@ pub(crate) use continuity::*;
 
 pub(crate) use walls::*;
 
-use crate::params::{BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, SphParams};
+use crate::params::{
+    BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, PairScheme, SphParams,
+};
 
 /// How the fluid pairs of a pass are visited.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -86,6 +88,17 @@ pub(crate) struct CoupledForce {
     pub(crate) wall_force: WallForce,
     /// The shifting gradient ∇C and kernel sum are summed.
     pub(crate) shifting_sums: bool,
+    /// The momentum and continuity pair.
+    pub(crate) pair: MomentumPair,
+}
+
+/// The momentum and continuity pair of the coupled force pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum MomentumPair {
+    /// Eq. 8 with Monaghan's continuity equation (`terms::Eq8Pair`).
+    Eq8,
+    /// The Riemann-solver pair of Zhang, Hu & Adams 2017 (`terms::RiemannPair`).
+    Riemann,
 }
 
 /// The density rate the coupled force pass sums.
@@ -196,6 +209,10 @@ impl StepPlan {
                         BoundaryMethod::Adami => WallForce::AdamiFreeSlip,
                     },
                     shifting_sums: params.shifting.is_some_and(|a| a > 0.0),
+                    pair: match params.pair_scheme {
+                        PairScheme::Standard => MomentumPair::Eq8,
+                        PairScheme::Riemann => MomentumPair::Riemann,
+                    },
                 })
             } else {
                 ForceStage::Momentum { sweep }
@@ -245,9 +262,14 @@ impl StepPlan {
                 sweep: s,
                 density_rate,
                 shifting_sums,
+                pair,
                 ..
             }) => format!(
-                "momentum with {}{} ({})",
+                "{}momentum with {}{} ({})",
+                match pair {
+                    MomentumPair::Eq8 => "",
+                    MomentumPair::Riemann => "Riemann-solver ",
+                },
                 match density_rate {
                     DensityRate::None => "no density rate",
                     DensityRate::Continuity => "continuity",

@@ -97,10 +97,132 @@ impl WallForceTerm for AdamiNoSlipForce {
     const NO_SLIP_VISCOUS: bool = true;
 }
 
+/// The momentum and continuity pair of the coupled pass, chosen once per run: Eq. 8 with
+/// Monaghan's continuity equation ([`Eq8Pair`]) or the Riemann-solver pair of Zhang, Hu &
+/// Adams 2017 ([`crate::terms::RiemannPair`]). The density diffusion, the no-slip wall force
+/// and the shifting sums are added around it by [`ModernPairTerms`].
+pub(crate) trait MomentumContinuityPair<const D: usize>: Sync + Sized {
+    /// The pair's constants for a run.
+    fn new(c: &PassConstants) -> Self;
+
+    /// Fluid particles i (`o`) and j at x_ij = x_i − x_j, distance `r` (m), ∇_i W_ij =
+    /// `grad_w`, with the pair factors (∇W factor, 1/s, 1/ρ̄) of [`ForceSweep::pair_factors`]:
+    /// the acceleration of i (m/s²; j gets its negative) and, with `continuity`, the density
+    /// rates of i and of j (kg/(m³·s)).
+    fn fluid(
+        &self,
+        base: &ForceSweep<'_, D>,
+        o: &ForceOwner<D>,
+        j: usize,
+        xij: Vector<D>,
+        r: f64,
+        grad_w: Vector<D>,
+        factors: (f64, f64, f64),
+        continuity: bool,
+    ) -> (Vector<D>, f64, f64);
+
+    /// Fluid particle `o` and wall particle `w` at x_iw = x_i − x_w, squared distance r2
+    /// (m²): the acceleration of i, ∇_i W_iw, its factor (dW/dr)/r, 1/(r² + 0.01 h²),
+    /// 1/(ρ_i ρ_w) and, with `continuity`, dρ_i/dt; the wall in the artificial viscosity
+    /// (`with_av`) and the fluid's viscous stress against it (`with_viscous`) as for
+    /// dynamic walls.
+    #[allow(clippy::too_many_arguments)]
+    fn wall(
+        &self,
+        base: &ForceSweep<'_, D>,
+        o: &ForceOwner<D>,
+        w: usize,
+        xiw: Vector<D>,
+        r2: f64,
+        with_av: bool,
+        with_viscous: bool,
+        continuity: bool,
+    ) -> WallPairFlux<D>;
+}
+
+/// What a fluid–wall pair gives the coupled pass ([`MomentumContinuityPair::wall`]).
+pub(crate) struct WallPairFlux<const D: usize> {
+    /// Acceleration of i (m/s²).
+    pub(crate) acc: Vector<D>,
+    /// ∇_i W_iw (1/m³ in 2D per metre of depth, 1/m⁴ in 3D).
+    pub(crate) grad_w: Vector<D>,
+    /// (dW/dr)/r.
+    pub(crate) f: f64,
+    /// 1/(r² + 0.01 h²) of Eq. 11.
+    pub(crate) inv_s: f64,
+    /// 1/(ρ_i ρ_w).
+    pub(crate) inv_rho_iw: f64,
+    /// dρ_i/dt of the pair (kg/(m³·s)).
+    pub(crate) drho: f64,
+}
+
+/// Paper Eq. 8 (pressure, artificial viscosity, viscous stress) with the continuity equation
+/// dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij (Monaghan 1992; walls at rest in the tank frame).
+pub(crate) struct Eq8Pair;
+
+impl<const D: usize> MomentumContinuityPair<D> for Eq8Pair {
+    #[inline(always)]
+    fn new(_: &PassConstants) -> Self {
+        Eq8Pair
+    }
+
+    #[inline(always)]
+    fn fluid(
+        &self,
+        base: &ForceSweep<'_, D>,
+        o: &ForceOwner<D>,
+        j: usize,
+        xij: Vector<D>,
+        _r: f64,
+        grad_w: Vector<D>,
+        factors: (f64, f64, f64),
+        continuity: bool,
+    ) -> (Vector<D>, f64, f64) {
+        // Eq. 8: the paper's pair term.
+        let acc = base.fluid_term_with(o, j, xij, factors);
+        if continuity {
+            let vij = o.v - base.vel[j];
+            let d = base.c.mass * vij.dot(&grad_w);
+            (acc, d, d)
+        } else {
+            (acc, 0.0, 0.0)
+        }
+    }
+
+    #[inline(always)]
+    fn wall(
+        &self,
+        base: &ForceSweep<'_, D>,
+        o: &ForceOwner<D>,
+        w: usize,
+        xiw: Vector<D>,
+        r2: f64,
+        with_av: bool,
+        with_viscous: bool,
+        continuity: bool,
+    ) -> WallPairFlux<D> {
+        let (acc, grad_w, f, inv_s, inv_rho_iw) =
+            base.wall_momentum(o, w, xiw, r2, with_av, with_viscous);
+        let drho = if continuity {
+            base.c.mass * o.v.dot(&grad_w)
+        } else {
+            0.0
+        };
+        WallPairFlux {
+            acc,
+            grad_w,
+            f,
+            inv_s,
+            inv_rho_iw,
+            drho,
+        }
+    }
+}
+
 /// What the pair terms of the coupled force pass read: the density rate `R`, the wall force
-/// `W` and the shifting sums (`SHIFT`) are types, so that the pair loop carries no switch of
-/// its own.
-pub(crate) struct ModernPairTerms<'a, const D: usize, R, W, const SHIFT: bool> {
+/// `W`, the momentum and continuity pair `F` and the shifting sums (`SHIFT`) are types, so
+/// that the pair loop carries no switch of its own.
+pub(crate) struct ModernPairTerms<'a, const D: usize, R, W, F, const SHIFT: bool> {
     /// The paper sweep's constants and fluid and wall arrays (pressure and viscous terms).
     pub(crate) base: ForceSweep<'a, D>,
     /// −2 δ h c0 (m²/s): ψ_ij·∇_i W_ij = 2 (ρ_j − ρ_i) x_ji·x_ij F/r² = −2 (ρ_j − ρ_i) F,
@@ -110,6 +232,8 @@ pub(crate) struct ModernPairTerms<'a, const D: usize, R, W, const SHIFT: bool> {
     pub(crate) rho_h: &'a [f64],
     /// Wall velocity seen by the fluid with no-slip Adami walls (m/s).
     pub(crate) wall_vel: &'a [Vector<D>],
+    /// The momentum and continuity pair.
+    pub(crate) pair: F,
     _parts: std::marker::PhantomData<(R, W)>,
 }
 
@@ -144,8 +268,14 @@ pub(crate) struct WallPairTerm<const D: usize> {
     pub(crate) kernel_sum: f64,
 }
 
-impl<'a, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool>
-    ModernPairTerms<'a, D, R, W, SHIFT>
+impl<
+        'a,
+        const D: usize,
+        R: DensityRateTerm,
+        W: WallForceTerm,
+        F: MomentumContinuityPair<D>,
+        const SHIFT: bool,
+    > ModernPairTerms<'a, D, R, W, F, SHIFT>
 {
     /// The terms over `fluid` (its acceleration and density rate are not read), `walls` and
     /// the stage buffers' hydrostatic density and wall velocity.
@@ -159,6 +289,7 @@ impl<'a, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool
             diff_coeff: -2.0 * st.k.diffusion_coeff,
             rho_h: &st.hydro_density,
             wall_vel: &st.wall_velocity,
+            pair: F::new(c),
             base: ForceSweep::new(c, fluid, walls),
             _parts: std::marker::PhantomData,
         }
@@ -181,8 +312,8 @@ impl<'a, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool
     }
 
     /// The pair of fluid particles i (`o`) and j at squared distance r2 within the support:
-    /// Eq. 8 (pressure, artificial viscosity, viscous stress), the continuity equation
-    /// dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij (Monaghan 1992) with the δ-SPH diffusion term
+    /// the momentum and continuity pair `F` (Eq. 8 with dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij,
+    /// Monaghan 1992, or the Riemann-solver pair) with the δ-SPH diffusion term
     /// (Molteni & Colagrossi 2009; Fourtakas et al. 2019), and what the shifting sums need.
     /// `r` is the distance and `factors` the pair's (∇W factor, 1/s, 1/ρ̄) of
     /// [`ForceSweep::pair_factors`].
@@ -197,17 +328,19 @@ impl<'a, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool
     ) -> FluidPairTerm<D> {
         let c = &self.base.c;
         let m = c.mass;
-        // Eq. 8: the paper's pair term.
-        let acc = self
-            .base
-            .fluid_term_with(&o.f, j, xij, (f, inv_s, inv_rho_mean));
         let grad_w = xij * f;
+        let (acc, mut drho_i, mut drho_j) = self.pair.fluid(
+            &self.base,
+            &o.f,
+            j,
+            xij,
+            r,
+            grad_w,
+            (f, inv_s, inv_rho_mean),
+            R::CONTINUITY,
+        );
         let volume_j = m * self.base.inv_rho[j];
-        let (mut drho_i, mut drho_j) = (0.0, 0.0);
         if R::CONTINUITY {
-            let vij = o.f.v - self.base.vel[j];
-            let d = m * vij.dot(&grad_w);
-            (drho_i, drho_j) = (d, d);
             if R::DIFFUSION {
                 let psi = self.diff_coeff * (self.rho_dyn(j) - o.rho_dyn) * f;
                 drho_i += psi * volume_j;
@@ -240,13 +373,22 @@ impl<'a, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool
         let c = &self.base.c;
         let m = c.mass;
         let b = &self.base;
-        let (mut acc, grad_w, f, inv_s, inv_rho_iw) = b.wall_momentum(
+        let WallPairFlux {
+            mut acc,
+            grad_w,
+            f,
+            inv_s,
+            inv_rho_iw,
+            drho,
+        } = self.pair.wall(
+            b,
             o,
             w,
             xiw,
             r2,
             W::AS_FLUID && b.av_on,
             W::AS_FLUID && b.viscous,
+            R::CONTINUITY,
         );
         if W::NO_SLIP_VISCOUS {
             // No-slip Adami wall: the laminar viscous force of Morris et al. (1997),
@@ -255,11 +397,6 @@ impl<'a, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool
             let v_iw = o.v - self.wall_vel[w];
             acc += v_iw * (m * 2.0 * c.viscosity * inv_rho_iw * r2 * f * inv_s);
         }
-        let drho = if R::CONTINUITY {
-            m * o.v.dot(&grad_w)
-        } else {
-            0.0
-        };
         let (grad_c, kernel_sum) = if SHIFT {
             let volume_w = m * b.wall_inv_rho[w];
             (grad_w * volume_w, volume_w * c.kernel.value(r2.sqrt()))
@@ -349,8 +486,8 @@ impl<const D: usize> OwnerSums<D> {
 /// sweep the momentum term and the shifting gradient are antisymmetric in i and j, the
 /// continuity term symmetric, and the diffusion term of j is that of i with i and j
 /// exchanged.
-pub(crate) struct Coupled<'a, 'id, const D: usize, R, W, const SHIFT: bool> {
-    terms: ModernPairTerms<'a, D, R, W, SHIFT>,
+pub(crate) struct Coupled<'a, 'id, const D: usize, R, W, F, const SHIFT: bool> {
+    terms: ModernPairTerms<'a, D, R, W, F, SHIFT>,
     acceleration: SweepSlots<'a, 'id, Vector<D>>,
     density_rate: SweepSlots<'a, 'id, f64>,
     /// With `SHIFT`, the shifting gradient ∇C (1/m) and kernel sum (their arrays are empty
@@ -361,8 +498,15 @@ pub(crate) struct Coupled<'a, 'id, const D: usize, R, W, const SHIFT: bool> {
     body_force: Vector<D>,
 }
 
-impl<'a, 'id, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool>
-    Coupled<'a, 'id, D, R, W, SHIFT>
+impl<
+        'a,
+        'id,
+        const D: usize,
+        R: DensityRateTerm,
+        W: WallForceTerm,
+        F: MomentumContinuityPair<D>,
+        const SHIFT: bool,
+    > Coupled<'a, 'id, D, R, W, F, SHIFT>
 {
     /// The pass over `fluid`, `walls` and the stage buffers `st`, writing the acceleration
     /// (m/s², body force included), dρ/dt (kg/(m³·s)) and, with shifting, ∇C (1/m) and the
@@ -393,8 +537,15 @@ impl<'a, 'id, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT:
     }
 }
 
-impl<'a, 'id, const D: usize, R: DensityRateTerm, W: WallForceTerm, const SHIFT: bool>
-    PairInteraction<'a, 'id, D> for Coupled<'a, 'id, D, R, W, SHIFT>
+impl<
+        'a,
+        'id,
+        const D: usize,
+        R: DensityRateTerm,
+        W: WallForceTerm,
+        F: MomentumContinuityPair<D>,
+        const SHIFT: bool,
+    > PairInteraction<'a, 'id, D> for Coupled<'a, 'id, D, R, W, F, SHIFT>
 {
     type Owner = ModernOwner<D>;
     type Sums = OwnerSums<D>;

@@ -3,8 +3,10 @@
 mod coupled;
 mod density;
 mod momentum;
+mod riemann;
 mod velocity_gradient;
 pub(crate) use coupled::*;
 pub(crate) use density::*;
 pub(crate) use momentum::*;
+pub(crate) use riemann::*;
 pub(crate) use velocity_gradient::*;

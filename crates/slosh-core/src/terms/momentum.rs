@@ -206,10 +206,23 @@ impl<'a, const D: usize> ForceSweep<'a, D> {
         }
         let mut term = grad_w * (m * scalar);
         if self.viscous {
-            // Viscous part μ (V_i + V_j)/(ρ_i ρ_j) ∇W.
-            term += (o.strain + self.strain[j]) * grad_w * (m * c.viscosity * inv_rho_ij);
+            term += self.viscous_stress(o, j, grad_w, inv_rho_ij);
         }
         term
+    }
+
+    /// The viscous part of Eq. 8 for fluid particles i (`o`) and j, m μ (V_i + V_j)/(ρ_i ρ_j)
+    /// ∇_i W_ij (m/s²), with ∇_i W_ij = `grad_w` and 1/(ρ_i ρ_j) = `inv_rho_ij`.
+    #[inline(always)]
+    pub(crate) fn viscous_stress(
+        &self,
+        o: &ForceOwner<D>,
+        j: usize,
+        grad_w: Vector<D>,
+        inv_rho_ij: f64,
+    ) -> Vector<D> {
+        let c = &self.c;
+        (o.strain + self.strain[j]) * grad_w * (c.mass * c.viscosity * inv_rho_ij)
     }
 
     /// The acceleration of i from wall particle w within the support, at x_iw = x_i − x_w and
