@@ -47,10 +47,7 @@ pub fn estimate_particles(tank: &TankSpec, dx: f64) -> (f64, f64) {
         TankSpec::Mesh { depth, extent, .. } => {
             // fluid bounded by the mesh's bounding box; the wall area grown as a box's
             // (8 g (l + b + h) for an offset g)
-            let (l, b) = (
-                extent.max[0] - extent.min[0],
-                extent.max[1] - extent.min[1],
-            );
+            let (l, b) = (extent.max[0] - extent.min[0], extent.max[1] - extent.min[1]);
             let area: f64 = extent.parts.iter().map(|p| p.1).sum();
             let h = extent.max[2] - extent.min[2];
             let grown = area + 8.0 * grow * (l + b + h);

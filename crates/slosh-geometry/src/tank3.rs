@@ -247,7 +247,10 @@ impl InternalSolid {
                         self.name
                     )));
                 }
-                too_thin("ring width (outer − inner radius)", outer_radius - inner_radius)?;
+                too_thin(
+                    "ring width (outer − inner radius)",
+                    outer_radius - inner_radius,
+                )?;
                 (*bottom, *top)
             }
             SolidShape::Block { .. } => unreachable!("checked above"),
@@ -325,9 +328,7 @@ impl InternalSolid {
                     && p.z >= *bottom
                     && p.z <= *top
             }
-            SolidShape::Block { min, max } => {
-                (0..3).all(|k| p[k] >= min[k] && p[k] <= max[k])
-            }
+            SolidShape::Block { min, max } => (0..3).all(|k| p[k] >= min[k] && p[k] <= max[k]),
         }
     }
 }

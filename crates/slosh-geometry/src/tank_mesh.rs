@@ -76,12 +76,12 @@ impl TankMesh {
         for (t, group) in surface.triangles.iter().zip(&groups) {
             let part = match group {
                 Some(g) => {
-                    check_part_name(&format!("mesh {source}: group \"{g}\""), g).map_err(
-                        |e| GeometryError::MeshRead {
+                    check_part_name(&format!("mesh {source}: group \"{g}\""), g).map_err(|e| {
+                        GeometryError::MeshRead {
                             path: source.to_string(),
                             message: e.to_string(),
-                        },
-                    )?;
+                        }
+                    })?;
                     match part_names.iter().position(|n| n == g) {
                         Some(i) => i,
                         None => {

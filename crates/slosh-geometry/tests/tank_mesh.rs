@@ -73,10 +73,19 @@ fn cylinder_mesh_with_a_named_group_and_a_column() {
     let read = TankMesh::read(&path).unwrap();
     assert_eq!(read.part_names, vec!["bottom", "wall", "roof", "lid"]);
     let s = MeshTank::new(&path, depth)
-        .with_solid(InternalSolid::column("column", [0.0, 0.0], 0.06, -0.05, h + 0.05))
+        .with_solid(InternalSolid::column(
+            "column",
+            [0.0, 0.0],
+            0.06,
+            -0.05,
+            h + 0.05,
+        ))
         .build(dx)
         .unwrap();
-    assert_eq!(s.part_names, vec!["bottom", "wall", "roof", "lid", "column"]);
+    assert_eq!(
+        s.part_names,
+        vec!["bottom", "wall", "roof", "lid", "column"]
+    );
     let disc = PI * r * r;
     assert!(rel(part_area(&s, "bottom"), disc - PI * 0.06 * 0.06) < 0.01);
     assert!(rel(part_area(&s, "wall"), 2.0 * PI * r * h) < 0.01);
@@ -115,7 +124,10 @@ fn bad_meshes_are_refused_with_the_file_named() {
     let stl = "solid tank_shell\n".to_string() + &facets(&mesh) + "endsolid\n";
     let (m, g) = SurfaceMesh::parse_grouped(stl.as_bytes(), "stl", "ok.stl").unwrap();
     let read = TankMesh::from_grouped(m, g, "ok.stl").unwrap();
-    assert_eq!(read.part_names, vec!["bottom", "wall", "roof", "tank_shell"]);
+    assert_eq!(
+        read.part_names,
+        vec!["bottom", "wall", "roof", "tank_shell"]
+    );
 }
 
 /// A solid thinner than 2 dx is refused with its name and the limit.
@@ -125,7 +137,11 @@ fn thin_solid_is_refused() {
     let path = temp_dir("thin").join("box.obj");
     mesh.write_obj(&path, "box").unwrap();
     let e = MeshTank::new(&path, 0.2)
-        .with_solid(InternalSolid::block("plate", [0.1, 0.0, 0.0], [0.13, 0.4, 0.3]))
+        .with_solid(InternalSolid::block(
+            "plate",
+            [0.1, 0.0, 0.0],
+            [0.13, 0.4, 0.3],
+        ))
         .build(0.02)
         .err()
         .unwrap();
@@ -172,7 +188,10 @@ fn write_example_tank_mesh() {
         .map(|t| {
             let v = t.map(|i| mesh.vertices[i as usize]);
             let radius = |p: [f64; 3]| (p[0] * p[0] + p[1] * p[1]).sqrt();
-            let name = if v.iter().all(|p| p[2] <= floor + eps && radius(*p) <= rs + eps) {
+            let name = if v
+                .iter()
+                .all(|p| p[2] <= floor + eps && radius(*p) <= rs + eps)
+            {
                 "sump"
             } else if v.iter().all(|p| (p[2] - floor).abs() <= eps) {
                 "bottom"

@@ -292,7 +292,10 @@ fn read_solids_3d(r: &mut MapReader) -> Result<Vec<InternalSolid>, String> {
         };
         let vector = |r: &mut MapReader, key: &str, n: usize| -> Result<Vec<f64>, String> {
             let d = r.get(key).ok_or_else(|| {
-                at(format!("a {shape} needs '{key}', [{}] (m)", ["x", "y", "z"][..n].join(", ")))
+                at(format!(
+                    "a {shape} needs '{key}', [{}] (m)",
+                    ["x", "y", "z"][..n].join(", ")
+                ))
             })?;
             crate::engine::dynamic_to_vec(d)
                 .filter(|v| v.len() == n)
@@ -321,11 +324,9 @@ fn read_solids_3d(r: &mut MapReader) -> Result<Vec<InternalSolid>, String> {
                 let hi = vector(&mut r, "max", 3)?;
                 InternalSolid::block(&name, [lo[0], lo[1], lo[2]], [hi[0], hi[1], hi[2]])
             }
-            other => {
-                return Err(at(format!(
-                    "unknown shape \"{other}\" for a 3D tank (use \"column\", \"ring\" or \"block\")"
-                )))
-            }
+            other => return Err(at(format!(
+                "unknown shape \"{other}\" for a 3D tank (use \"column\", \"ring\" or \"block\")"
+            ))),
         };
         r.finish().map_err(at)?;
         solids.push(solid);
@@ -647,7 +648,9 @@ impl TankSpec {
         let TankSpec::Mesh { mesh, extent, .. } = self else {
             return Ok(());
         };
-        let path = sandbox.resolve(mesh).map_err(|e| format!("tank: mesh {e}"))?;
+        let path = sandbox
+            .resolve(mesh)
+            .map_err(|e| format!("tank: mesh {e}"))?;
         let read = TankMesh::read(&path).map_err(|e| format!("tank: {e}"))?;
         let (min, max) = read.bounds();
         let roof_base = read
@@ -661,7 +664,12 @@ impl TankSpec {
             min,
             max,
             roof_base,
-            parts: read.part_names.iter().cloned().zip(read.part_areas()).collect(),
+            parts: read
+                .part_names
+                .iter()
+                .cloned()
+                .zip(read.part_areas())
+                .collect(),
         };
         Ok(())
     }

@@ -237,7 +237,10 @@ fn a_mesh_tank_reads_its_file_through_the_sandbox() {
     assert!(e.contains("case.rhai:2"), "{e}");
     assert!(e.contains("outside.obj"), "{e}");
     // a single open triangle
-    write(&inner.join("open.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    write(
+        &inner.join("open.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    );
     let e = load_error(&script("open.obj"), &CaseOptions::default());
     assert!(e.contains("case.rhai:2") && e.contains("open.obj"), "{e}");
     assert!(e.contains("not watertight"), "{e}");
