@@ -2,7 +2,9 @@
 
 use anyhow::{bail, Context, Result};
 use slosh_core::ParticleSetup;
-use slosh_geometry::{BoxTank, CylinderTank, InitialSurface, Layout, RectTank2, Roof, SphereTank};
+use slosh_geometry::{
+    BoxTank, CylinderTank, InitialSurface, Layout, MeshTank, RectTank2, Roof, SphereTank,
+};
 use slosh_script::{ReadSandbox, TankSpec};
 
 /// The geometry's initial-surface shape from its script name ("plane" or "mode1").
@@ -96,7 +98,10 @@ pub fn fit_to_lattice(tank: &TankSpec, dx: f64) -> Result<FittedTank> {
             *height = level("tank height", *height, dx, &mut notes);
             dx
         }
-        TankSpec::Cylinder { .. } | TankSpec::Section { .. } | TankSpec::Sphere { .. } => dx,
+        TankSpec::Cylinder { .. }
+        | TankSpec::Section { .. }
+        | TankSpec::Sphere { .. }
+        | TankSpec::Mesh { .. } => dx,
     };
     // Keep a fill that was within the shell within the fitted shell (a fill above the shell
     // as given is the geometry's error to report).
@@ -110,7 +115,10 @@ pub fn fit_to_lattice(tank: &TankSpec, dx: f64) -> Result<FittedTank> {
                 *depth = *height;
             }
         }
-        TankSpec::Cylinder { .. } | TankSpec::Section { .. } | TankSpec::Sphere { .. } => {}
+        TankSpec::Cylinder { .. }
+        | TankSpec::Section { .. }
+        | TankSpec::Sphere { .. }
+        | TankSpec::Mesh { .. } => {}
     }
     Ok(FittedTank {
         tank: fitted,
@@ -130,6 +138,7 @@ fn tank_height(tank: &TankSpec) -> f64 {
             hi[1] - lo[1]
         }
         TankSpec::Sphere { radius, .. } => 2.0 * radius,
+        TankSpec::Mesh { extent, .. } => extent.max[2] - extent.min[2],
     }
 }
 
@@ -163,7 +172,7 @@ pub fn build_2d(tank: &TankSpec, dx: f64) -> Result<ParticleSetup<2>> {
     }
 }
 
-/// Builds the 3D particles of a 3D tank. A roof mesh path is read through the script's
+/// Builds the 3D particles of a 3D tank. A roof or tank mesh path is read through the script's
 /// `sandbox` (below its folder, its project folder or an `--allow-read` folder).
 pub fn build_3d(tank: &TankSpec, dx: f64, sandbox: &ReadSandbox) -> Result<ParticleSetup<3>> {
     match tank {
@@ -175,6 +184,7 @@ pub fn build_3d(tank: &TankSpec, dx: f64, sandbox: &ReadSandbox) -> Result<Parti
             roof_rise,
             tilt,
             tilt_shape,
+            solids,
         } => {
             let mut roof = Roof::from_name(roof, *roof_rise).with_context(|| {
                 format!(
@@ -187,10 +197,11 @@ pub fn build_3d(tank: &TankSpec, dx: f64, sandbox: &ReadSandbox) -> Result<Parti
                 let resolved = sandbox.resolve(&rel).map_err(anyhow::Error::msg)?;
                 roof = Roof::Mesh(resolved);
             }
-            Ok(CylinderTank::new(*radius, *height, *depth, roof)
+            let mut tank = CylinderTank::new(*radius, *height, *depth, roof)
                 .with_initial_tilt(*tilt)
-                .with_initial_shape(initial_surface(tilt_shape))
-                .build(dx)?)
+                .with_initial_shape(initial_surface(tilt_shape));
+            tank.solids = solids.clone();
+            Ok(tank.build(dx)?)
         }
         TankSpec::Box {
             length,
@@ -200,11 +211,30 @@ pub fn build_3d(tank: &TankSpec, dx: f64, sandbox: &ReadSandbox) -> Result<Parti
             roof,
             tilt,
             tilt_shape,
-        } => Ok(BoxTank::new(*length, *breadth, *height, *depth)
-            .with_roof(*roof)
-            .with_initial_tilt(*tilt)
-            .with_initial_shape(initial_surface(tilt_shape))
-            .build(dx)?),
+            solids,
+        } => {
+            let mut tank = BoxTank::new(*length, *breadth, *height, *depth)
+                .with_roof(*roof)
+                .with_initial_tilt(*tilt)
+                .with_initial_shape(initial_surface(tilt_shape));
+            tank.solids = solids.clone();
+            Ok(tank.build(dx)?)
+        }
+        TankSpec::Mesh {
+            mesh,
+            depth,
+            tilt,
+            tilt_shape,
+            solids,
+            ..
+        } => {
+            let path = sandbox.resolve(mesh).map_err(anyhow::Error::msg)?;
+            let mut tank = MeshTank::new(path, *depth)
+                .with_initial_tilt(*tilt)
+                .with_initial_shape(initial_surface(tilt_shape));
+            tank.solids = solids.clone();
+            Ok(tank.build(dx)?)
+        }
         TankSpec::Sphere {
             radius,
             depth,

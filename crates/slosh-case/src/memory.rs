@@ -44,6 +44,15 @@ pub fn estimate_particles(tank: &TankSpec, dx: f64) -> (f64, f64) {
             let perimeter = 2.0 * (width + height + 4.0 * grow);
             ((width / dx) * (depth / dx), WALL_LAYERS * perimeter / dx)
         }
+        TankSpec::Mesh { depth, extent, .. } => {
+            // fluid bounded by the mesh's bounding box; the wall area grown as a box's
+            // (8 g (l + b + h) for an offset g)
+            let (l, b) = (extent.max[0] - extent.min[0], extent.max[1] - extent.min[1]);
+            let area: f64 = extent.parts.iter().map(|p| p.1).sum();
+            let h = extent.max[2] - extent.min[2];
+            let grown = area + 8.0 * grow * (l + b + h);
+            (l * b * depth / dx.powi(3), WALL_LAYERS * grown / (dx * dx))
+        }
         TankSpec::Box {
             length,
             breadth,
@@ -143,6 +152,7 @@ mod tests {
             roof_rise: 0.0,
             tilt: 0.0,
             tilt_shape: "plane".into(),
+            solids: Vec::new(),
         }
     }
 

@@ -125,7 +125,8 @@ fn simulated_tank<const D: usize>(sim: &Simulation<D>, fit: &mut build::FittedTa
             | TankSpec::Section { depth, .. }
             | TankSpec::Sphere { depth, .. }
             | TankSpec::Cylinder { depth, .. }
-            | TankSpec::Box { depth, .. } => depth,
+            | TankSpec::Box { depth, .. }
+            | TankSpec::Mesh { depth, .. } => depth,
         };
         if (held - *depth).abs() > 1e-9 * depth.max(1.0) {
             fit.notes.push(format!(
@@ -170,8 +171,8 @@ fn theory_numbers(tank: &TankSpec, gravity: f64) -> TheoryNumbers {
         TankSpec::Rect { width, depth, .. } => {
             natural::rectangular_omega(*width, *depth, gravity, 1)
         }
-        // an estimate: the rectangle of the section's width and the liquid depth
-        TankSpec::Section { depth, .. } => {
+        // an estimate: the rectangle of the section's (mesh's) width and the liquid depth
+        TankSpec::Section { depth, .. } | TankSpec::Mesh { depth, .. } => {
             natural::rectangular_omega(tank.horizontal_size(), *depth, gravity, 1)
         }
         TankSpec::Box { length, depth, .. } => {
@@ -306,7 +307,9 @@ fn run_built<const D: usize>(
         None => None,
     };
     let wall_gauges = match &case.tank {
-        TankSpec::Section { .. } | TankSpec::Sphere { .. } => Some(liquid_edge_gauges(&sim)),
+        TankSpec::Section { .. } | TankSpec::Sphere { .. } | TankSpec::Mesh { .. } => {
+            Some(liquid_edge_gauges(&sim))
+        }
         _ => None,
     };
     let settle = case.run.settle;
@@ -623,6 +626,12 @@ fn roof_tank(tank: &TankSpec, params: &SphParams, omega_1: f64) -> RoofTank {
             (*depth, hi[1] - lo[1], 0.5 * (hi[0] - lo[0]))
         }
         TankSpec::Sphere { radius, depth, .. } => (*depth, 2.0 * radius, *radius),
+        // the freeboard up to the lowest corner of the roof part (or the top without a roof)
+        TankSpec::Mesh { depth, extent, .. } => (
+            *depth,
+            extent.roof_base.unwrap_or(extent.max[2]),
+            0.5 * (extent.max[0] - extent.min[0]),
+        ),
         TankSpec::Cylinder {
             radius,
             height,

@@ -106,7 +106,9 @@ pub fn write_case_input_spectrum(
     }
     let (size, is_cylinder) = match tank {
         TankSpec::Rect { width, .. } => (*width, false),
-        TankSpec::Section { .. } | TankSpec::Sphere { .. } => (tank.horizontal_size(), false),
+        TankSpec::Section { .. } | TankSpec::Sphere { .. } | TankSpec::Mesh { .. } => {
+            (tank.horizontal_size(), false)
+        }
         TankSpec::Box { length, .. } => (*length, false),
         TankSpec::Cylinder { radius, .. } => (2.0 * radius, true),
     };
@@ -138,6 +140,15 @@ pub fn write_case_input_spectrum(
             roof,
             ..
         } if roof != "none" => Some(height - depth),
+        TankSpec::Mesh {
+            depth,
+            extent:
+                slosh_script::MeshExtent {
+                    roof_base: Some(base),
+                    ..
+                },
+            ..
+        } => Some(base - depth),
         _ => None,
     };
     summary.freeboard_m = freeboard;

@@ -4,7 +4,7 @@
 //! * [`RectTank2`]: the paper's 2D rectangular tank (two lattice layouts, [`Layout`]).
 //! * [`CylinderTank`]: an upright cylinder (axis x = y = 0, floor z = 0) with a [`Roof`]
 //!   (none, flat, cone, dome, or a closed mesh file of the whole interior), optional
-//!   [`InternalSolid`]s (columns, baffle rings).
+//!   [`InternalSolid`]s (columns, baffle rings, blocks; each at least 2 dx thick).
 //! * [`SectionTank2`]: any other 2D section: a rectangle with a cone, dome or polyline roof
 //!   ([`SectionRoof`]), a simple polygon, or a circle (horizontal cylindrical tank), built by
 //!   the 2D form of the 3D rules below with the outline as a parry2d `Polyline`; fixed
@@ -12,6 +12,9 @@
 //!   layers inside each solid, in a part of the solid's name.
 //! * [`BoxTank`]: a 3D rectangular box, to compare 2D and 3D runs.
 //! * [`SphereTank`]: a spherical tank, parts by the way its surface faces.
+//! * [`MeshTank`]: any 3D tank as a closed OBJ/STL mesh of its whole interior, parts named by
+//!   the mesh's groups (or by the way untagged triangles face), internal solids as in the
+//!   cylinder ([`TankMesh`] reads and checks the file).
 //! * [`SurfaceMesh`]: OBJ/STL reading, OBJ writing, closedness checks, procedural meshes
 //!   ([`cylinder_roof_mesh_obj`] writes the example files of `geometry/`).
 //!
@@ -52,6 +55,7 @@ mod rect2;
 mod section2;
 mod solid2;
 mod tank3;
+mod tank_mesh;
 
 /// Shape of the initial free surface of a free-decay test (`initial_tilt` ≠ 0). Both keep the
 /// liquid volume of the flat surface.
@@ -88,6 +92,7 @@ pub use section2::{
 };
 pub use solid2::{Solid2, Solid2Shape};
 pub use tank3::{BoxTank, CylinderTank, InternalSolid, Roof, SolidShape, SphereTank, TankRegion3};
+pub use tank_mesh::{MeshTank, TankMesh};
 
 /// Writes the closed interior surface of a cylinder of `radius` and `shell_height` (m) with
 /// `roof` (not `Roof::Mesh`/`Roof::None`) to an OBJ file at `path`, using facets no wider than

@@ -39,8 +39,31 @@ impl SurfaceMesh {
     /// Parses the bytes of an OBJ or STL file, as [`SurfaceMesh::read`] does; `extension`
     /// (`obj` or `stl`, any case) chooses the format and `name` names the file in errors.
     pub fn parse(bytes: &[u8], extension: &str, name: &str) -> Result<SurfaceMesh, GeometryError> {
+        Ok(SurfaceMesh::parse_grouped(bytes, extension, name)?.0)
+    }
+
+    /// Reads an OBJ or STL file as [`SurfaceMesh::read`] does, with the group of each
+    /// triangle: the name of the OBJ `g` or `o` statement before it (the OBJ default group
+    /// `default`, or a `g` without a name, is no group), or the name of the ASCII STL `solid`
+    /// block holding it (none for a binary STL or an unnamed solid).
+    pub fn read_grouped(path: &Path) -> Result<(SurfaceMesh, Vec<Option<String>>), GeometryError> {
+        let name = path.display().to_string();
+        let bytes = std::fs::read(path).map_err(|e| GeometryError::MeshRead {
+            path: name.clone(),
+            message: e.to_string(),
+        })?;
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        SurfaceMesh::parse_grouped(&bytes, ext, &name)
+    }
+
+    /// [`SurfaceMesh::parse`] with the group of each triangle, as [`SurfaceMesh::read_grouped`].
+    pub fn parse_grouped(
+        bytes: &[u8],
+        extension: &str,
+        name: &str,
+    ) -> Result<(SurfaceMesh, Vec<Option<String>>), GeometryError> {
         let name = name.to_string();
-        let mut mesh = match extension.to_ascii_lowercase().as_str() {
+        let (mut mesh, groups) = match extension.to_ascii_lowercase().as_str() {
             "obj" => parse_obj(bytes).map_err(|message| GeometryError::MeshRead {
                 path: name.clone(),
                 message,
@@ -56,14 +79,15 @@ impl SurfaceMesh {
                 })
             }
         };
-        mesh.merge_duplicate_vertices();
+        let kept = mesh.merge_vertices_keeping();
         if mesh.triangles.is_empty() {
             return Err(GeometryError::MeshRead {
                 path: name,
                 message: "the file contains no triangles".into(),
             });
         }
-        Ok(mesh)
+        let groups = kept.into_iter().map(|k| groups[k].clone()).collect();
+        Ok((mesh, groups))
     }
 
     /// Writes the mesh as a Wavefront OBJ file (vertices in m, 1-based faces), with `comment`
@@ -88,8 +112,48 @@ impl SurfaceMesh {
         std::fs::write(path, out)
     }
 
+    /// Writes the mesh as a Wavefront OBJ file as [`SurfaceMesh::write_obj`] does, each run of
+    /// triangles of one group after a `g <name>` line (`groups`: one entry per triangle; `None`
+    /// writes `g default`, the OBJ default group).
+    pub fn write_obj_grouped(
+        &self,
+        path: &Path,
+        comment: &str,
+        groups: &[Option<String>],
+    ) -> std::io::Result<()> {
+        let mut out = String::new();
+        for line in comment.lines() {
+            let _ = writeln!(out, "# {line}");
+        }
+        for v in &self.vertices {
+            let _ = writeln!(
+                out,
+                "v {} {} {}",
+                fmt_coord(v[0]),
+                fmt_coord(v[1]),
+                fmt_coord(v[2])
+            );
+        }
+        let mut current: Option<Option<&String>> = None;
+        for (k, t) in self.triangles.iter().enumerate() {
+            let g = groups.get(k).and_then(|g| g.as_ref());
+            if current != Some(g) {
+                let _ = writeln!(out, "g {}", g.map_or("default", |s| s.as_str()));
+                current = Some(g);
+            }
+            let _ = writeln!(out, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
+        std::fs::write(path, out)
+    }
+
     /// Merges vertices with bit-identical coordinates and drops triangles that become degenerate.
     pub fn merge_duplicate_vertices(&mut self) {
+        self.merge_vertices_keeping();
+    }
+
+    /// [`SurfaceMesh::merge_duplicate_vertices`], returning the former index of each kept
+    /// triangle.
+    fn merge_vertices_keeping(&mut self) -> Vec<usize> {
         let mut map: HashMap<[u64; 3], u32> = HashMap::with_capacity(self.vertices.len());
         let mut new_vertices = Vec::with_capacity(self.vertices.len());
         let mut remap = Vec::with_capacity(self.vertices.len());
@@ -103,13 +167,16 @@ impl SurfaceMesh {
         }
         self.vertices = new_vertices;
         let mut triangles = Vec::with_capacity(self.triangles.len());
-        for t in &self.triangles {
+        let mut kept = Vec::with_capacity(self.triangles.len());
+        for (k, t) in self.triangles.iter().enumerate() {
             let t = t.map(|i| remap[i as usize]);
             if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
                 triangles.push(t);
+                kept.push(k);
             }
         }
         self.triangles = triangles;
+        kept
     }
 
     /// Checks the mesh is a closed (watertight), manifold, consistently oriented surface;
@@ -258,14 +325,24 @@ fn excerpt(token: &str) -> String {
     }
 }
 
-fn parse_obj(bytes: &[u8]) -> Result<SurfaceMesh, String> {
+/// The group a name statement (`g`, `o`, `solid`) opens: the rest of the line, or none when
+/// it is empty or the OBJ default group `default`.
+fn group_name<'a>(tokens: impl Iterator<Item = &'a str>) -> Option<String> {
+    let name = tokens.collect::<Vec<_>>().join(" ");
+    (!name.is_empty() && name != "default").then_some(name)
+}
+
+fn parse_obj(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<Option<String>>), String> {
     let text =
         std::str::from_utf8(bytes).map_err(|_| "the OBJ file is not UTF-8 text".to_string())?;
     let mut mesh = SurfaceMesh::default();
+    let mut groups = Vec::new();
+    let mut group: Option<String> = None;
     for (line_no, line) in text.lines().enumerate() {
         let line_no = line_no + 1;
         let mut tokens = line.split_whitespace();
         match tokens.next() {
+            Some("g") | Some("o") => group = group_name(tokens),
             Some("v") => {
                 let mut v = [0.0; 3];
                 for c in &mut v {
@@ -305,15 +382,16 @@ fn parse_obj(bytes: &[u8]) -> Result<SurfaceMesh, String> {
                 }
                 for k in 1..ids.len() - 1 {
                     mesh.triangles.push([ids[0], ids[k], ids[k + 1]]);
+                    groups.push(group.clone());
                 }
             }
             _ => {}
         }
     }
-    Ok(mesh)
+    Ok((mesh, groups))
 }
 
-fn parse_stl(bytes: &[u8]) -> Result<SurfaceMesh, String> {
+fn parse_stl(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<Option<String>>), String> {
     let is_binary = bytes.len() >= 84 && {
         let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
         bytes.len() == 84 + 50 * n
@@ -340,15 +418,20 @@ fn parse_stl(bytes: &[u8]) -> Result<SurfaceMesh, String> {
             }
             mesh.triangles.push(tri);
         }
-        return Ok(mesh);
+        let groups = vec![None; mesh.triangles.len()];
+        return Ok((mesh, groups));
     }
     let text = std::str::from_utf8(bytes).map_err(|_| {
         "neither a binary STL (size does not match the facet count) nor ASCII text".to_string()
     })?;
     let mut corners = Vec::new();
+    let mut groups = Vec::new();
+    let mut group: Option<String> = None;
     for (line_no, line) in text.lines().enumerate() {
         let mut tokens = line.split_whitespace();
         match tokens.next() {
+            Some("solid") => group = group_name(tokens),
+            Some("endsolid") => group = None,
             Some("vertex") => {
                 let mut v = [0.0; 3];
                 for c in &mut v {
@@ -374,11 +457,12 @@ fn parse_stl(bytes: &[u8]) -> Result<SurfaceMesh, String> {
                 let base = mesh.vertices.len() as u32;
                 mesh.vertices.append(&mut corners);
                 mesh.triangles.push([base, base + 1, base + 2]);
+                groups.push(group.clone());
             }
             _ => {}
         }
     }
-    Ok(mesh)
+    Ok((mesh, groups))
 }
 
 pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {

@@ -111,7 +111,7 @@ pub(crate) fn dome_arc_length(radius: f64, rise: f64) -> f64 {
 }
 
 /// Shape of an internal solid (a fixed obstacle inside the tank), in tank coordinates (m).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub enum SolidShape {
     /// A vertical solid cylinder, e.g. a centre column.
     Column {
@@ -135,11 +135,18 @@ pub enum SolidShape {
         /// Height of its upper face (m).
         top: f64,
     },
+    /// An axis-aligned rectangular block, e.g. a plate baffle or a pump housing.
+    Block {
+        /// Lowest corner (x, y, z) (m).
+        min: [f64; 3],
+        /// Highest corner (x, y, z) (m).
+        max: [f64; 3],
+    },
 }
 
 /// An internal solid with the part name its wall particles get (solids with the same name
 /// share a part).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct InternalSolid {
     /// Part name, used in load outputs (e.g. "column").
     pub name: String,
@@ -175,11 +182,43 @@ impl InternalSolid {
         }
     }
 
-    fn validate(&self) -> Result<(), GeometryError> {
-        if self.name.trim().is_empty() {
-            return Err(GeometryError::InvalidShape(
-                "an internal solid needs a non-empty part name".into(),
-            ));
+    /// An axis-aligned block between the corners `min` and `max` (m).
+    pub fn block(name: &str, min: [f64; 3], max: [f64; 3]) -> Self {
+        InternalSolid {
+            name: name.to_string(),
+            shape: SolidShape::Block { min, max },
+        }
+    }
+
+    /// Checks the name and the numbers, and that the solid is at least 2 dx thick in every
+    /// direction ([`crate::Solid2::min_thickness`], as in 2D): a thinner solid holds no
+    /// lattice row at some positions and would let the liquid through.
+    pub(crate) fn validate(&self, dx: f64) -> Result<(), GeometryError> {
+        crate::solid2::check_part_name("internal solid", &self.name)?;
+        let min_thickness = crate::Solid2::min_thickness(dx);
+        let name = &self.name;
+        let too_thin = |what: &str, size: f64| {
+            if size < min_thickness * (1.0 - 1e-9) {
+                Err(GeometryError::InvalidShape(format!(
+                    "solid '{name}': {what} {size} m is thinner than 2 dx = {min_thickness} m;                      the solid would let the liquid through (make it thicker or use a smaller dx)"
+                )))
+            } else {
+                Ok(())
+            }
+        };
+        if let SolidShape::Block { min, max } = &self.shape {
+            for (k, axis) in ["x", "y", "z"].iter().enumerate() {
+                check_finite("block corner", min[k])?;
+                check_finite("block corner", max[k])?;
+                if max[k] <= min[k] {
+                    return Err(GeometryError::InvalidShape(format!(
+                        "solid '{name}': block max {axis} {} m must be above its min {axis} {} m",
+                        max[k], min[k]
+                    )));
+                }
+                too_thin(&format!("block size along {axis}"), max[k] - min[k])?;
+            }
+            return Ok(());
         }
         let (bottom, top) = match &self.shape {
             SolidShape::Column {
@@ -191,6 +230,7 @@ impl InternalSolid {
                 check_finite("column centre x", centre[0])?;
                 check_finite("column centre y", centre[1])?;
                 check_positive("column radius", *radius)?;
+                too_thin("column diameter", 2.0 * radius)?;
                 (*bottom, *top)
             }
             SolidShape::Ring {
@@ -207,8 +247,13 @@ impl InternalSolid {
                         self.name
                     )));
                 }
+                too_thin(
+                    "ring width (outer − inner radius)",
+                    outer_radius - inner_radius,
+                )?;
                 (*bottom, *top)
             }
+            SolidShape::Block { .. } => unreachable!("checked above"),
         };
         check_finite("solid bottom height", bottom)?;
         check_finite("solid top height", top)?;
@@ -218,7 +263,7 @@ impl InternalSolid {
                 self.name
             )));
         }
-        Ok(())
+        too_thin("height", top - bottom)
     }
 
     fn surface(&self, dx: f64) -> SurfaceMesh {
@@ -256,6 +301,7 @@ impl InternalSolid {
                 ];
                 revolve_profile(&profile, true, n, dx)
             }
+            SolidShape::Block { min, max } => box_mesh(*min, *max, dx),
         }
     }
 
@@ -282,6 +328,7 @@ impl InternalSolid {
                     && p.z >= *bottom
                     && p.z <= *top
             }
+            SolidShape::Block { min, max } => (0..3).all(|k| p[k] >= min[k] && p[k] <= max[k]),
         }
     }
 }
@@ -419,7 +466,7 @@ impl CylinderTank {
             });
         }
         for s in &self.solids {
-            s.validate()?;
+            s.validate(dx)?;
         }
         Ok(())
     }
@@ -471,6 +518,7 @@ impl CylinderTank {
             interior_min: [-r, -r, 0.0],
             interior_max: [r, r, top],
             region,
+            extra_parts: Vec::new(),
         };
         build_mesh_tank(&spec, dx)
     }
@@ -584,7 +632,7 @@ impl BoxTank {
             }
         }
         for s in &self.solids {
-            s.validate()?;
+            s.validate(dx)?;
         }
         let (w, b, h) = (self.width, self.breadth, self.tank_height);
         let lid = h + (self.layers as f64 + 3.0) * dx;
@@ -610,6 +658,7 @@ impl BoxTank {
             interior_min: [0.0, 0.0, 0.0],
             interior_max: [w, b, h],
             region: RegionShape::Box { max: [w, b, h] },
+            extra_parts: Vec::new(),
         };
         build_mesh_tank(&spec, dx)
     }
@@ -723,6 +772,7 @@ impl SphereTank {
             interior_min: [-r, -r, 0.0],
             interior_max: [r, r, 2.0 * r],
             region: RegionShape::Mesh,
+            extra_parts: Vec::new(),
         };
         build_mesh_tank_with_parts(&spec, Some(triangle_parts), dx)
     }
@@ -730,7 +780,7 @@ impl SphereTank {
 
 /// The exact shape used by [`TankInterior::contains`] (fast analytic tests where possible).
 #[derive(Debug, Clone)]
-enum RegionShape {
+pub(crate) enum RegionShape {
     Cylinder {
         radius: f64,
         shell_height: f64,
@@ -785,25 +835,28 @@ impl TiltShape {
 
 /// A tank given by its closed interior surface; the common input of [`build_mesh_tank`].
 #[derive(Debug, Clone)]
-struct MeshTankSpec {
+pub(crate) struct MeshTankSpec {
     /// Closed interior surface, normals out of the liquid. Open tanks: shell continued above
     /// `shell_height` and closed by a lid (those triangles make no wall particles).
-    surface: SurfaceMesh,
+    pub(crate) surface: SurfaceMesh,
     /// Height of the shell top (m): triangles entirely at or above it are roof (closed) or
     /// nothing (open).
-    shell_height: f64,
-    open: bool,
-    fill_depth: f64,
-    initial_tilt: f64,
+    pub(crate) shell_height: f64,
+    pub(crate) open: bool,
+    pub(crate) fill_depth: f64,
+    pub(crate) initial_tilt: f64,
     /// Shape of the tilted surface.
-    tilt_shape: TiltShape,
-    layers: u8,
-    solids: Vec<InternalSolid>,
+    pub(crate) tilt_shape: TiltShape,
+    pub(crate) layers: u8,
+    pub(crate) solids: Vec<InternalSolid>,
     /// Exact areas of bottom, wall, roof (m²) when known; the mesh areas are rescaled to them.
-    analytic_part_area: [Option<f64>; 3],
-    interior_min: [f64; 3],
-    interior_max: [f64; 3],
-    region: RegionShape,
+    pub(crate) analytic_part_area: [Option<f64>; 3],
+    /// Parts of the tank surface after `bottom`, `wall`, `roof` (part indices 3, 4, …, before
+    /// the internal solids' parts).
+    pub(crate) extra_parts: Vec<String>,
+    pub(crate) interior_min: [f64; 3],
+    pub(crate) interior_max: [f64; 3],
+    pub(crate) region: RegionShape,
 }
 
 /// One closed boundary surface as a parry mesh with a part per triangle.
@@ -1120,7 +1173,7 @@ fn build_mesh_tank(spec: &MeshTankSpec, dx: f64) -> Result<ParticleSetup<3>, Geo
 
 /// [`build_mesh_tank`] with the part of each surface triangle given (`None`: floor, shell and
 /// roof by height, [`tag_tank_triangles`]).
-fn build_mesh_tank_with_parts(
+pub(crate) fn build_mesh_tank_with_parts(
     spec: &MeshTankSpec,
     triangle_parts: Option<Vec<u16>>,
     dx: f64,
@@ -1200,6 +1253,7 @@ fn build_mesh_tank_with_parts(
         false,
     )?;
     let mut part_names: Vec<String> = vec![PART_BOTTOM.into(), PART_WALL.into(), PART_ROOF.into()];
+    part_names.extend(spec.extra_parts.iter().cloned());
     let mut solids = Vec::new();
     for s in &spec.solids {
         let idx = match part_names.iter().position(|n| *n == s.name) {

@@ -298,12 +298,13 @@ fn box_tank_matches_2d_block() {
     assert_eq!(s.wall_part[k], 2);
 }
 
+/// (The ring is 2 dx high, the thinnest solid allowed.)
 #[test]
 fn column_and_ring_solids() {
     let (r, h, dx) = (0.5, 0.6, 0.04);
     let s = CylinderTank::new(r, h, 0.4, Roof::Flat)
         .with_solid(InternalSolid::column("column", [0.0, 0.0], 0.1, -0.1, 0.7))
-        .with_solid(InternalSolid::ring("baffle", 0.35, 0.55, 0.2, 0.24))
+        .with_solid(InternalSolid::ring("baffle", 0.35, 0.55, 0.2, 0.28))
         .build(dx)
         .unwrap();
     assert_eq!(
@@ -313,7 +314,7 @@ fn column_and_ring_solids() {
     for p in &s.fluid_positions {
         let rr = (p.x * p.x + p.y * p.y).sqrt();
         assert!(rr > 0.1);
-        assert!(!(rr >= 0.35 && p.z >= 0.2 && p.z <= 0.24));
+        assert!(!(rr >= 0.35 && p.z >= 0.2 && p.z <= 0.28));
         assert!(s.interior.contains(p));
     }
     let column: Vec<usize> = (0..s.wall_positions.len())
@@ -337,10 +338,10 @@ fn column_and_ring_solids() {
     assert!(rel(col_area, 2.0 * PI * 0.1 * h) < 0.01, "{col_area}");
     // ring wetted area: top + bottom annuli (0.35..0.5) + inner rim
     let ring_area = part_area(&s, 4);
-    let expect = 2.0 * PI * (0.5f64.powi(2) - 0.35f64.powi(2)) + 2.0 * PI * 0.35 * 0.04;
+    let expect = 2.0 * PI * (0.5f64.powi(2) - 0.35f64.powi(2)) + 2.0 * PI * 0.35 * 0.08;
     assert!(rel(ring_area, expect) < 0.01, "{ring_area} vs {expect}");
     // the shell behind the ring is not wetted
-    assert!(rel(part_area(&s, 1), 2.0 * PI * r * (h - 0.04)) < 0.01);
+    assert!(rel(part_area(&s, 1), 2.0 * PI * r * (h - 0.08)) < 0.01);
 }
 
 #[test]

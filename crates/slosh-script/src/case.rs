@@ -358,7 +358,8 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
     let tank_map = d.tank.take().ok_or_else(|| {
         err("the script does not describe a tank: call tank(#{ shape: \"rect\", width: …, height: …, depth: … })".into())
     })?;
-    let tank = TankSpec::from_map(&tank_map).map_err(err)?;
+    let mut tank = TankSpec::from_map(&tank_map).map_err(err)?;
+    tank.read_mesh(&sandbox).map_err(err)?;
     let numerics = d.numerics.take().unwrap_or_default();
     let (sph, scheme, resolution) = numerics_from_map(&numerics).map_err(err)?;
     let dx = resolution.spacing_for(&tank).map_err(err)?;

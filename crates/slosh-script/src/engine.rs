@@ -138,6 +138,7 @@ pub(crate) fn build_engine(
     );
     for key in ["case", "tank", "numerics", "run"] {
         let s = shared.clone();
+        let files = sandbox.clone();
         engine.register_fn(key, move |map: Map| -> Result<(), Box<EvalAltResult>> {
             let mut d = s.lock().map_err(|_| runtime_error("internal lock"))?;
             let slot = match key {
@@ -151,7 +152,10 @@ pub(crate) fn build_engine(
             }
             if key == "tank" {
                 // a bad shape is reported at this call (file:line:column)
-                crate::spec::TankSpec::from_map_checked(&map).map_err(runtime_error)?;
+                // and a mesh file that is missing, open or badly oriented too
+                crate::spec::TankSpec::from_map_checked(&map)
+                    .and_then(|mut tank| tank.read_mesh(&files))
+                    .map_err(runtime_error)?;
             }
             *slot = Some(map);
             Ok(())

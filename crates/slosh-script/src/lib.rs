@@ -35,4 +35,6 @@ pub use memory::SCRIPT_MEMORY_BUDGET_BYTES;
 pub use motion_api::MotionInfo;
 pub use params::{parse_set_value, parse_sets, ParamDecl, ParamValue, SetArgumentError};
 pub use sandbox::{ReadSandbox, PROJECT_MARKER};
-pub use spec::{GaugeSpec, Resolution, RunSpec, SectionOutlineSpec, SectionRoofSpec, TankSpec};
+pub use spec::{
+    GaugeSpec, MeshExtent, Resolution, RunSpec, SectionOutlineSpec, SectionRoofSpec, TankSpec,
+};

@@ -7,7 +7,8 @@ use slosh_core::{
     NeighbourBackend, PairScheme, SoundSpeedRule, SphParams, WallPressureMethod,
 };
 use slosh_geometry::{
-    bounding_box_2d, InitialSurface, SectionRoof, SectionShape, SectionTank2, Solid2,
+    bounding_box_2d, InitialSurface, InternalSolid, SectionRoof, SectionShape, SectionTank2,
+    Solid2, SolidShape, TankMesh,
 };
 use std::collections::BTreeSet;
 
@@ -194,6 +195,9 @@ pub enum TankSpec {
         tilt: f64,
         /// Shape of the tilted surface: `"plane"` or `"mode1"` (first sloshing mode).
         tilt_shape: String,
+        /// Internal solids (columns, rings, blocks).
+        #[serde(skip_serializing_if = "Vec::is_empty")]
+        solids: Vec<InternalSolid>,
     },
     /// 3D rectangular box tank.
     Box {
@@ -211,6 +215,26 @@ pub enum TankSpec {
         tilt: f64,
         /// Shape of the tilted surface: `"plane"` or `"mode1"` (first sloshing mode).
         tilt_shape: String,
+        /// Internal solids (columns, rings, blocks).
+        #[serde(skip_serializing_if = "Vec::is_empty")]
+        solids: Vec<InternalSolid>,
+    },
+    /// 3D tank of any shape: a closed OBJ/STL mesh of the whole interior, raised so that its
+    /// lowest point is at z = 0.
+    Mesh {
+        /// The mesh file as the script gives it (looked up below the script's folder).
+        mesh: String,
+        /// Still liquid depth above the mesh's lowest point (m).
+        depth: f64,
+        /// Initial free-surface elevation at the mesh's smallest x (m).
+        tilt: f64,
+        /// Shape of the tilted surface: `"plane"` or `"mode1"` (cos(π ξ) across x).
+        tilt_shape: String,
+        /// Internal solids (columns, rings, blocks).
+        #[serde(skip_serializing_if = "Vec::is_empty")]
+        solids: Vec<InternalSolid>,
+        /// What the file holds (read when the script calls `tank`).
+        extent: MeshExtent,
     },
     /// 3D spherical tank, centre on the vertical axis at z = radius.
     Sphere {
@@ -223,6 +247,119 @@ pub enum TankSpec {
         /// Shape of the tilted surface: `"plane"` or `"mode1"` (first sloshing mode).
         tilt_shape: String,
     },
+}
+
+/// What a tank mesh file holds: its size and parts.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct MeshExtent {
+    /// Lowest corner of its bounding box (m; lowest point at z = 0).
+    pub min: [f64; 3],
+    /// Highest corner of its bounding box (m).
+    pub max: [f64; 3],
+    /// Lowest corner of a `roof` triangle (m): the freeboard's top; `None` without a roof.
+    pub roof_base: Option<f64>,
+    /// Each part (`bottom`, `wall`, `roof`, then the other groups) with its mesh area (m²).
+    pub parts: Vec<(String, f64)>,
+}
+
+/// Reads a 3D tank's `solids`: `#{ name, shape: "column", centre: [x, y], radius, bottom,
+/// top }`, `#{ name, shape: "ring", inner_radius, outer_radius, bottom, top }` (centred on
+/// the z axis) or `#{ name, shape: "block", min: [x, y, z], max: [x, y, z] }` (m).
+fn read_solids_3d(r: &mut MapReader) -> Result<Vec<InternalSolid>, String> {
+    let Some(list) = r.get("solids") else {
+        return Ok(Vec::new());
+    };
+    let list = list.as_array_ref().map_err(|_| {
+        format!("tank: 'solids' must be a list of maps #{{ name, shape, … }} (got {list})")
+    })?;
+    let mut solids = Vec::with_capacity(list.len());
+    for (k, d) in list.iter().enumerate() {
+        let at = |m: String| format!("tank: solids[{k}]: {m}");
+        let map = d.read_lock::<Map>().ok_or_else(|| {
+            format!("tank: solids[{k}] must be a map #{{ name, shape, … }} (got {d})")
+        })?;
+        let mut r = MapReader::new("tank solid", &map);
+        let name = r.str_or("name", "")?;
+        if name.is_empty() {
+            return Err(at(
+                "needs a 'name', the part its loads are reported under".into()
+            ));
+        }
+        let shape = r.str_or("shape", "")?;
+        let number = |r: &mut MapReader, key: &str| -> Result<f64, String> {
+            r.opt_f64(key)?
+                .ok_or_else(|| at(format!("a {shape} needs '{key}' (m)")))
+        };
+        let vector = |r: &mut MapReader, key: &str, n: usize| -> Result<Vec<f64>, String> {
+            let d = r.get(key).ok_or_else(|| {
+                at(format!(
+                    "a {shape} needs '{key}', [{}] (m)",
+                    ["x", "y", "z"][..n].join(", ")
+                ))
+            })?;
+            crate::engine::dynamic_to_vec(d)
+                .filter(|v| v.len() == n)
+                .ok_or_else(|| at(format!("'{key}' must be a list of {n} numbers (got {d})")))
+        };
+        let solid = match shape.as_str() {
+            "column" => {
+                let c = vector(&mut r, "centre", 2)?;
+                InternalSolid::column(
+                    &name,
+                    [c[0], c[1]],
+                    number(&mut r, "radius")?,
+                    number(&mut r, "bottom")?,
+                    number(&mut r, "top")?,
+                )
+            }
+            "ring" => InternalSolid::ring(
+                &name,
+                number(&mut r, "inner_radius")?,
+                number(&mut r, "outer_radius")?,
+                number(&mut r, "bottom")?,
+                number(&mut r, "top")?,
+            ),
+            "block" => {
+                let lo = vector(&mut r, "min", 3)?;
+                let hi = vector(&mut r, "max", 3)?;
+                InternalSolid::block(&name, [lo[0], lo[1], lo[2]], [hi[0], hi[1], hi[2]])
+            }
+            other => return Err(at(format!(
+                "unknown shape \"{other}\" for a 3D tank (use \"column\", \"ring\" or \"block\")"
+            ))),
+        };
+        r.finish().map_err(at)?;
+        solids.push(solid);
+    }
+    Ok(solids)
+}
+
+/// What an internal solid of a 3D tank is, in words.
+fn describe_solid_3d(s: &InternalSolid) -> String {
+    match &s.shape {
+        SolidShape::Column {
+            centre,
+            radius,
+            bottom,
+            top,
+        } => format!(
+            "internal column of radius {radius} m at ({}, {}) m, z {bottom} to {top} m",
+            centre[0], centre[1]
+        ),
+        SolidShape::Ring {
+            inner_radius,
+            outer_radius,
+            bottom,
+            top,
+        } => format!(
+            "internal ring of radii {inner_radius} to {outer_radius} m about the z axis, z \
+             {bottom} to {top} m"
+        ),
+        SolidShape::Block { min, max } => format!(
+            "internal block from ({}, {}, {}) to ({}, {}, {}) m",
+            min[0], min[1], min[2], max[0], max[1], max[2]
+        ),
+    }
 }
 
 /// A fixed solid inside a 2D tank, `solids: [#{ name, shape, … }]`.
@@ -481,7 +618,8 @@ impl TankSpec {
             | TankSpec::Section { depth, .. }
             | TankSpec::Cylinder { depth, .. }
             | TankSpec::Box { depth, .. }
-            | TankSpec::Sphere { depth, .. } => *depth,
+            | TankSpec::Sphere { depth, .. }
+            | TankSpec::Mesh { depth, .. } => *depth,
         }
     }
 
@@ -498,7 +636,42 @@ impl TankSpec {
                 length, breadth, ..
             } => length.max(*breadth),
             TankSpec::Cylinder { radius, .. } | TankSpec::Sphere { radius, .. } => 2.0 * radius,
+            TankSpec::Mesh { extent, .. } => {
+                (extent.max[0] - extent.min[0]).max(extent.max[1] - extent.min[1])
+            }
         }
+    }
+
+    /// Reads and checks a mesh tank's file through `sandbox` (the script's folders) and
+    /// records its size and parts; nothing for the other tanks.
+    pub fn read_mesh(&mut self, sandbox: &crate::ReadSandbox) -> Result<(), String> {
+        let TankSpec::Mesh { mesh, extent, .. } = self else {
+            return Ok(());
+        };
+        let path = sandbox
+            .resolve(mesh)
+            .map_err(|e| format!("tank: mesh {e}"))?;
+        let read = TankMesh::read(&path).map_err(|e| format!("tank: {e}"))?;
+        let (min, max) = read.bounds();
+        let roof_base = read
+            .triangle_part
+            .iter()
+            .zip(&read.surface.triangles)
+            .filter(|(p, _)| **p == 2)
+            .flat_map(|(_, t)| t.map(|i| read.surface.vertices[i as usize][2]))
+            .reduce(f64::min);
+        *extent = MeshExtent {
+            min,
+            max,
+            roof_base,
+            parts: read
+                .part_names
+                .iter()
+                .cloned()
+                .zip(read.part_areas())
+                .collect(),
+        };
+        Ok(())
     }
 
     /// Space dimension of the tank (2 or 3).
@@ -539,6 +712,20 @@ impl TankSpec {
             };
         for (name, [first, last]) in named {
             describe(name, format!("outline sides {first} to {last}"));
+        }
+        let solids_3d: &[InternalSolid] = match self {
+            TankSpec::Cylinder { solids, .. }
+            | TankSpec::Box { solids, .. }
+            | TankSpec::Mesh { solids, .. } => solids,
+            _ => &[],
+        };
+        if let TankSpec::Mesh { extent, .. } = self {
+            for (name, area) in extent.parts.iter().skip(3) {
+                describe(name, format!("mesh group \"{name}\", {area:.4} m²"));
+            }
+        }
+        for s in solids_3d {
+            describe(&s.name, describe_solid_3d(s));
         }
         for s in solids {
             let what = match &s.shape {
@@ -623,6 +810,34 @@ impl TankSpec {
                 "the zone between latitudes −45° and 45°",
                 "the cap within 45° of the highest point",
             ),
+            TankSpec::Mesh { extent, .. } => {
+                let area = |k: usize| extent.parts.get(k).map_or(0.0, |p| p.1);
+                vec![
+                    (
+                        "bottom",
+                        format!(
+                            "mesh group \"bottom\" and untagged triangles facing within 45° of \
+                             straight down, {:.4} m²",
+                            area(0)
+                        ),
+                    ),
+                    (
+                        "wall",
+                        format!(
+                            "mesh group \"wall\" and the other untagged triangles, {:.4} m²",
+                            area(1)
+                        ),
+                    ),
+                    (
+                        "roof",
+                        format!(
+                            "mesh group \"roof\" and untagged triangles facing within 45° of \
+                             straight up, {:.4} m²",
+                            area(2)
+                        ),
+                    ),
+                ]
+            }
             TankSpec::Box { roof, .. } => vec![
                 ("bottom", "the floor".into()),
                 ("wall", "the four side walls".into()),
@@ -778,6 +993,7 @@ impl TankSpec {
                 roof_rise: r.f64_or("roof_rise", 0.1)?,
                 tilt: r.f64_or("tilt", 0.0)?,
                 tilt_shape: tilt_shape(&mut r)?,
+                solids: read_solids_3d(&mut r)?,
             },
             "box" => TankSpec::Box {
                 length: r.f64_or("length", 1.0)?,
@@ -787,6 +1003,7 @@ impl TankSpec {
                 roof: r.bool_or("roof", true)?,
                 tilt: r.f64_or("tilt", 0.0)?,
                 tilt_shape: tilt_shape(&mut r)?,
+                solids: read_solids_3d(&mut r)?,
             },
             "sphere" => TankSpec::Sphere {
                 radius: r.f64_or("radius", 0.5)?,
@@ -794,9 +1011,27 @@ impl TankSpec {
                 tilt: r.f64_or("tilt", 0.0)?,
                 tilt_shape: tilt_shape(&mut r)?,
             },
+            "mesh" => {
+                let mesh = r.str_or("mesh", "")?;
+                let lower = mesh.to_ascii_lowercase();
+                if !(lower.ends_with(".obj") || lower.ends_with(".stl")) {
+                    return Err(format!(
+                        "tank: a mesh tank needs 'mesh', an .obj or .stl file of the whole \
+                         interior next to the script (got \"{mesh}\")"
+                    ));
+                }
+                TankSpec::Mesh {
+                    mesh,
+                    depth: r.f64_or("depth", 0.5)?,
+                    tilt: r.f64_or("tilt", 0.0)?,
+                    tilt_shape: tilt_shape(&mut r)?,
+                    solids: read_solids_3d(&mut r)?,
+                    extent: MeshExtent::default(),
+                }
+            }
             other => {
                 return Err(format!(
-                    "tank: unknown shape \"{other}\" (use \"rect\", \"polygon\", \"circle\", \"cylinder\", \"box\" or \"sphere\")"
+                    "tank: unknown shape \"{other}\" (use \"rect\", \"polygon\", \"circle\", \"cylinder\", \"box\", \"sphere\" or \"mesh\")"
                 ))
             }
         };
@@ -1287,6 +1522,7 @@ mod tests {
             roof_rise: 1.5,
             tilt: 0.0,
             tilt_shape: "plane".into(),
+            solids: Vec::new(),
         };
         assert_eq!(Resolution::PerRadius(24.0).spacing_for(&cylinder), Ok(0.5));
         assert_eq!(Resolution::PerDepth(26.0).spacing_for(&cylinder), Ok(0.5));

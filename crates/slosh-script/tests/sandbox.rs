@@ -199,3 +199,49 @@ fn the_repository_scripts_read_their_data_and_meshes() {
         .unwrap();
     assert!(mesh.is_file(), "{}", mesh.display());
 }
+
+/// A mesh tank reads its file through the sandbox: the shipped example lists its groups as
+/// parts (with the mesh areas) and its column; a mesh outside the folder, or an open one, is
+/// refused at the `tank` call (file:line) with the mesh file named.
+#[test]
+fn a_mesh_tank_reads_its_file_through_the_sandbox() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let case = load_case(
+        &root.join("scripts/mesh_tank_3d.rhai"),
+        &CaseOptions::default(),
+    )
+    .unwrap();
+    let names: Vec<String> = case
+        .tank
+        .part_descriptions()
+        .into_iter()
+        .map(|p| p.0)
+        .collect();
+    assert_eq!(names, ["bottom", "wall", "roof", "sump", "column"]);
+
+    let dir = temp_dir("mesh_tank");
+    write(&dir.join("outside.obj"), "v 0 0 0\n");
+    let inner = dir.join("case");
+    let script = |mesh: &str| {
+        let path = inner.join("case.rhai");
+        write(
+            &path,
+            &format!(
+                "run(#{{ settle: 0.0, duration: 0.02 }});\n\
+                 tank(#{{ shape: \"mesh\", mesh: \"{mesh}\", depth: 0.1 }});\n"
+            ),
+        );
+        path
+    };
+    let e = load_error(&script("../outside.obj"), &CaseOptions::default());
+    assert!(e.contains("case.rhai:2"), "{e}");
+    assert!(e.contains("outside.obj"), "{e}");
+    // a single open triangle
+    write(
+        &inner.join("open.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    );
+    let e = load_error(&script("open.obj"), &CaseOptions::default());
+    assert!(e.contains("case.rhai:2") && e.contains("open.obj"), "{e}");
+    assert!(e.contains("not watertight"), "{e}");
+}

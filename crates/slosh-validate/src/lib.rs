@@ -472,6 +472,13 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             ),
         ));
         all.push((
+            "3D: upright cylinder given as a mesh",
+            one(
+                "3D: tank as a mesh (cylinder): free-sloshing period",
+                three_d::mesh_cylinder_period,
+            ),
+        ));
+        all.push((
             "3D box against 2D",
             one("3D: thin box against the 2D code", three_d::box_vs_2d),
         ));
