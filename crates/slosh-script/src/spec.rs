@@ -1316,6 +1316,7 @@ fn wall_pressure_name(m: WallPressureMethod) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use slosh_geometry::PartRange;
 
     fn numerics(pairs: &[(&str, Dynamic)]) -> Result<(SphParams, String, Resolution), String> {
         let mut map = Map::new();
@@ -1473,7 +1474,10 @@ mod tests {
                 Solid2::circle("column", [0.2, 0.2], 0.05)
             ]
         );
-        assert_eq!(tank.named_sides, vec![("floor".to_string(), [0, 0])]);
+        assert_eq!(
+            tank.named_parts,
+            vec![("floor".to_string(), PartRange::Sides([0, 0]))]
+        );
         let names: Vec<String> = spec.part_descriptions().into_iter().map(|p| p.0).collect();
         assert_eq!(
             names,
@@ -1597,5 +1601,64 @@ mod tests {
         assert!(err.contains("delta"), "{err}");
         let err = numerics(&[("shifting", Dynamic::from(-1.0))]).unwrap_err();
         assert!(err.contains("shifting"), "{err}");
+    }
+
+    #[test]
+    fn circle_and_rectangle_parts_are_read_and_checked() {
+        let pair = |a: f64, b: f64| Dynamic::from(vec![Dynamic::from(a), Dynamic::from(b)]);
+        let circle = TankSpec::from_map_checked(&map(vec![
+            ("shape", Dynamic::from("circle")),
+            ("radius", Dynamic::from(1.0)),
+            ("depth", Dynamic::from(1.5)),
+            ("parts", Dynamic::from(map(vec![("manway", pair(80.0, 100.0))]))),
+        ]))
+        .unwrap();
+        let tank = circle.section_tank().unwrap().unwrap();
+        assert_eq!(
+            tank.named_parts,
+            vec![("manway".to_string(), PartRange::Arc([80.0, 100.0]))]
+        );
+        let names: Vec<String> = circle.part_descriptions().into_iter().map(|p| p.0).collect();
+        assert_eq!(names, ["bottom", "wall", "roof", "manway"]);
+        // overlapping arcs are refused at the tank(…) call
+        let err = TankSpec::from_map_checked(&map(vec![
+            ("shape", Dynamic::from("circle")),
+            (
+                "parts",
+                Dynamic::from(map(vec![("a", pair(0.0, 90.0)), ("b", pair(45.0, 135.0))])),
+            ),
+        ]))
+        .unwrap_err();
+        assert!(err.contains("already named"), "{err}");
+        // a cone-roofed rectangle: a piece or a list of pieces
+        let pieces = Dynamic::from(vec![Dynamic::from("left_wall"), Dynamic::from("roof_left")]);
+        let rect = TankSpec::from_map_checked(&map(vec![
+            ("roof", Dynamic::from("cone")),
+            (
+                "parts",
+                Dynamic::from(map(vec![
+                    ("windward", pieces),
+                    ("lee_roof", Dynamic::from("roof_right")),
+                ])),
+            ),
+        ]))
+        .unwrap();
+        let tank = rect.section_tank().unwrap().unwrap();
+        assert_eq!(tank.named_parts.len(), 2);
+        // a flat rectangle with parts is built as a section; without, as before
+        let flat = TankSpec::from_map_checked(&map(vec![(
+            "parts",
+            Dynamic::from(map(vec![("lid", Dynamic::from("roof"))])),
+        )]))
+        .unwrap();
+        assert!(flat.section_tank().unwrap().is_some());
+        assert!(TankSpec::default().section_tank().unwrap().is_none());
+        // unknown pieces are named with the list of known ones
+        let err = TankSpec::from_map_checked(&map(vec![(
+            "parts",
+            Dynamic::from(map(vec![("lid", Dynamic::from("ceiling"))])),
+        )]))
+        .unwrap_err();
+        assert!(err.contains("ceiling") && err.contains("roof_left"), "{err}");
     }
 }
