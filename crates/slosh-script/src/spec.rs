@@ -1605,6 +1605,9 @@ mod tests {
 
     #[test]
     fn circle_and_rectangle_parts_are_read_and_checked() {
+        let map = |pairs: Vec<(&str, Dynamic)>| -> Map {
+            pairs.into_iter().map(|(k, v)| (k.into(), v)).collect()
+        };
         let pair = |a: f64, b: f64| Dynamic::from(vec![Dynamic::from(a), Dynamic::from(b)]);
         let circle = TankSpec::from_map_checked(&map(vec![
             ("shape", Dynamic::from("circle")),
