@@ -1,10 +1,10 @@
 //! The roof files of a run: `roof_pressure.csv` (with `roof_points.csv`/`.vtp` in 3D), the
 //! roof pressure map and the pressure-field snapshots of paper Fig. 7, written from the
-//! roof analysis of `slosh-run`.
+//! roof analysis of `slosh-run`, and the 2D frame at the largest wave.
 
 use anyhow::Result;
 use slosh_io::{Field2d, PlotSpec, PointArray};
-use slosh_run::RoofMonitor;
+use slosh_run::{RoofMonitor, RoofSnapshot};
 use std::path::Path;
 
 /// Writes `roof_pressure.csv` (2D: rows = time, columns = x along the roof; 3D: columns =
@@ -81,11 +81,6 @@ pub fn write_fig7<const D: usize>(
     }
     let dir = out.join("plots");
     std::fs::create_dir_all(&dir)?;
-    let ((lo, hi), dx) = roof.interior();
-    let nx = ((hi[0] - lo[0]) / dx).round().max(1.0) as usize;
-    let ny = ((hi[D - 1] - lo[D - 1]) / dx).round().max(1.0) as usize;
-    let xs: Vec<f64> = (0..nx).map(|i| lo[0] + (i as f64 + 0.5) * dx).collect();
-    let ys: Vec<f64> = (0..ny).map(|j| lo[D - 1] + (j as f64 + 0.5) * dx).collect();
     for (label, offset) in [("a", -0.06), ("b", 0.0), ("c", 0.06)] {
         let target = t_peak + offset;
         let Some(snap) = snapshots
@@ -94,31 +89,66 @@ pub fn write_fig7<const D: usize>(
         else {
             continue;
         };
-        let mut values = vec![f64::NAN; nx * ny];
-        for (p, &pr) in snap.position.iter().zip(&snap.pressure) {
-            let i = ((p[0] - lo[0]) / dx).floor();
-            let j = ((p[1] - lo[D - 1]) / dx).floor();
-            if i >= 0.0 && j >= 0.0 && (i as usize) < nx && (j as usize) < ny {
-                values[i as usize * ny + j as usize] = pr;
-            }
-        }
-        slosh_io::heatmap(
-            dir.join(format!("fig7_{label}")),
-            &PlotSpec::new(
-                format!(
-                    "Pressure field at {:.2} s after the excitation start",
-                    snap.time - settle
-                ),
-                "x [m]",
-                "y [m]",
-            ),
-            &Field2d {
-                xs: &xs,
-                ys: &ys,
-                values: &values,
-                value_label: "p [Pa]".into(),
-            },
-        )?;
+        let title = format!(
+            "Pressure field at {:.2} s after the excitation start",
+            snap.time - settle
+        );
+        draw_snapshot(roof, snap, &dir.join(format!("fig7_{label}")), title)?;
     }
+    Ok(())
+}
+
+/// Draws the 2D fluid at the output row of the largest wave (the largest |η| at either wall
+/// gauge), coloured by pressure, as `plots/frame_peak.png` (and `.svg`).
+pub fn write_frame_peak<const D: usize>(
+    roof: &RoofMonitor<D>,
+    out: &Path,
+    frame: &(RoofSnapshot, f64),
+    settle: f64,
+) -> Result<()> {
+    if D != 2 {
+        return Ok(());
+    }
+    let dir = out.join("plots");
+    std::fs::create_dir_all(&dir)?;
+    let (snap, wave) = frame;
+    let title = format!(
+        "Pressure field at the largest wave (|η| = {wave:.3} m), {:.2} s after the excitation start",
+        snap.time - settle
+    );
+    draw_snapshot(roof, snap, &dir.join("frame_peak"), title)
+}
+
+/// Draws one 2D fluid snapshot as a pressure heat map on the lattice cells of the tank
+/// interior, into `<path>.png` and `<path>.svg`.
+fn draw_snapshot<const D: usize>(
+    roof: &RoofMonitor<D>,
+    snap: &RoofSnapshot,
+    path: &Path,
+    title: String,
+) -> Result<()> {
+    let ((lo, hi), dx) = roof.interior();
+    let nx = ((hi[0] - lo[0]) / dx).round().max(1.0) as usize;
+    let ny = ((hi[D - 1] - lo[D - 1]) / dx).round().max(1.0) as usize;
+    let xs: Vec<f64> = (0..nx).map(|i| lo[0] + (i as f64 + 0.5) * dx).collect();
+    let ys: Vec<f64> = (0..ny).map(|j| lo[D - 1] + (j as f64 + 0.5) * dx).collect();
+    let mut values = vec![f64::NAN; nx * ny];
+    for (p, &pr) in snap.position.iter().zip(&snap.pressure) {
+        let i = ((p[0] - lo[0]) / dx).floor();
+        let j = ((p[1] - lo[D - 1]) / dx).floor();
+        if i >= 0.0 && j >= 0.0 && (i as usize) < nx && (j as usize) < ny {
+            values[i as usize * ny + j as usize] = pr;
+        }
+    }
+    slosh_io::heatmap(
+        path,
+        &PlotSpec::new(title, "x [m]", "y [m]"),
+        &Field2d {
+            xs: &xs,
+            ys: &ys,
+            values: &values,
+            value_label: "p [Pa]".into(),
+        },
+    )?;
     Ok(())
 }

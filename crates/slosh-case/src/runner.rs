@@ -14,7 +14,7 @@ use slosh_io::FrameSeries;
 use slosh_run::{
     Gauge, LoadFilter, LoadPeak, RoofTank, RunPlan, RunResult, RunStatus, StepError, StopRequest,
 };
-use slosh_script::{Case, TankSpec};
+use slosh_script::{Case, SectionOutlineSpec, TankSpec};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -170,6 +170,16 @@ fn theory_numbers(tank: &TankSpec, gravity: f64) -> TheoryNumbers {
     let omega_1 = match tank {
         TankSpec::Rect { width, depth, .. } => {
             natural::rectangular_omega(*width, *depth, gravity, 1)
+        }
+        // a circle: its own first antisymmetric mode (potential-flow Ritz value, 1.3557 g/R
+        // at half fill: Budiansky 1960, McIver 1989)
+        TankSpec::Section {
+            outline: SectionOutlineSpec::Circle { radius },
+            depth,
+            ..
+        } if *depth > 0.0 && *depth < 2.0 * radius => {
+            let lambda = slosh_theory::section_modes::circle_eigenvalue(depth / radius);
+            (lambda * gravity / radius).sqrt()
         }
         // an estimate: the rectangle of the section's (mesh's) width and the liquid depth
         TankSpec::Section { depth, .. } | TankSpec::Mesh { depth, .. } => {
@@ -498,6 +508,17 @@ fn run_built<const D: usize>(
                 crate::roof_files::write_fig7(&result.roof, out, summary.t_max_roof_p, settle)
             {
                 summary.output_errors.push(format!("Fig. 7 plots: {e:#}"));
+            }
+        }
+    }
+    // 2D: the fluid at the largest wave, whether or not the roof was struck
+    if opts.plots {
+        if let Some(frame) = &result.largest_wave_frame {
+            if let Err(e) = crate::roof_files::write_frame_peak(&result.roof, out, frame, settle)
+            {
+                summary
+                    .output_errors
+                    .push(format!("largest-wave frame plot: {e:#}"));
             }
         }
     }

@@ -84,12 +84,77 @@ pub struct SectionTank2 {
     pub initial_shape: crate::InitialSurface,
     /// Fixed solids inside the section (baffles, columns), each in a part of its name.
     pub solids: Vec<Solid2>,
-    /// Parts named by the user on a [`SectionShape::Polygon`]: a part name and the first and
-    /// last side it covers (side k joins vertex k to vertex k+1 in the order given, the last
-    /// side back to vertex 0; first > last wraps around past the last side). The names
-    /// `bottom`, `wall` and `roof` put those sides in that built-in part; sides not named keep
-    /// the part of the way they face.
-    pub named_sides: Vec<(String, [usize; 2])>,
+    /// Parts named by the user, each a name and the piece of the outline it covers
+    /// ([`PartRange`]). The names `bottom`, `wall` and `roof` put those pieces in that
+    /// built-in part; pieces not named keep their built-in part.
+    pub named_parts: Vec<(String, PartRange)>,
+}
+
+/// The piece of a [`SectionTank2`] outline a part named by the user covers.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PartRange {
+    /// On a [`SectionShape::Polygon`]: the first and last side (side k joins vertex k to
+    /// vertex k+1 in the order given, the last side back to vertex 0; first > last wraps
+    /// around past the last side).
+    Sides([usize; 2]),
+    /// On a [`SectionShape::Circle`]: the arc from the first to the last angle (degrees from
+    /// +x, counter-clockwise about the centre; first > last wraps past 0°, and an arc of
+    /// 360° is the whole circle).
+    Arc([f64; 2]),
+    /// On a [`SectionShape::RoofedRect`]: whole pieces of the rectangle.
+    Pieces(Vec<RectPiece>),
+}
+
+/// A piece of a [`SectionShape::RoofedRect`] outline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RectPiece {
+    /// The floor, y = 0.
+    Floor,
+    /// The side wall at x = 0.
+    LeftWall,
+    /// The side wall at x = width.
+    RightWall,
+    /// The whole roof, wall top to wall top.
+    Roof,
+    /// The roof left of mid-width (x < width/2: one slope of a cone roof).
+    RoofLeft,
+    /// The roof right of mid-width (x > width/2).
+    RoofRight,
+}
+
+impl RectPiece {
+    /// The piece of a script name: `floor`, `left_wall`, `right_wall`, `roof`, `roof_left`,
+    /// `roof_right`.
+    pub fn from_name(name: &str) -> Option<RectPiece> {
+        Some(match name {
+            "floor" => RectPiece::Floor,
+            "left_wall" => RectPiece::LeftWall,
+            "right_wall" => RectPiece::RightWall,
+            "roof" => RectPiece::Roof,
+            "roof_left" => RectPiece::RoofLeft,
+            "roof_right" => RectPiece::RoofRight,
+            _ => return None,
+        })
+    }
+
+    /// The script names of the pieces, for messages.
+    pub const NAMES: &'static str =
+        "\"floor\", \"left_wall\", \"right_wall\", \"roof\", \"roof_left\", \"roof_right\"";
+
+    /// Whether the piece covers side `k` of a roofed rectangle's outline of `n` sides (side 0
+    /// the floor, 1 the right wall, n−1 the left wall, the roof between) whose midpoint lies
+    /// at `mid_x` (m) in a section `width` wide.
+    fn covers(self, k: usize, n: usize, mid_x: f64, width: f64) -> bool {
+        let roof = k >= 2 && k + 1 < n;
+        match self {
+            RectPiece::Floor => k == 0,
+            RectPiece::RightWall => k == 1,
+            RectPiece::LeftWall => k + 1 == n,
+            RectPiece::Roof => roof,
+            RectPiece::RoofLeft => roof && mid_x < 0.5 * width,
+            RectPiece::RoofRight => roof && mid_x > 0.5 * width,
+        }
+    }
 }
 
 /// A closed outline ready for particles: counter-clockwise vertices (m), the part of each side
@@ -104,9 +169,9 @@ pub struct SectionOutline {
     pub side_part: Vec<u16>,
     /// Name of each part: `bottom`, `wall`, `roof`, then the parts named by the user.
     pub part_names: Vec<String>,
-    /// Exact length of each built-in part (m) where known in closed form; otherwise the sides'
-    /// lengths are exact.
-    pub exact_length: [Option<f64>; 3],
+    /// Exact length of each part (m) where known in closed form (curves); otherwise the
+    /// sides' lengths are exact.
+    pub exact_length: Vec<Option<f64>>,
 }
 
 impl SectionOutline {
@@ -159,6 +224,16 @@ impl SectionOutline {
         let indices = (0..n).map(|k| [k, (k + 1) % n]).collect();
         Polyline::new(vertices, Some(indices))
     }
+}
+
+/// Exact length of each part of `outline` (m): the sum of `side_exact` (m, the exact length
+/// each side stands for) over the part's sides.
+fn exact_part_lengths(outline: &SectionOutline, side_exact: &[f64]) -> Vec<Option<f64>> {
+    let mut total = vec![0.0; outline.part_names.len()];
+    for (k, &p) in outline.side_part.iter().enumerate() {
+        total[p as usize] += side_exact[k];
+    }
+    total.into_iter().map(Some).collect()
 }
 
 /// Lowest and highest corner of the bounding box of `points` (m); infinite when empty.
@@ -273,7 +348,7 @@ impl SectionTank2 {
             initial_tilt: 0.0,
             initial_shape: crate::InitialSurface::Plane,
             solids: Vec::new(),
-            named_sides: Vec::new(),
+            named_parts: Vec::new(),
         }
     }
 
@@ -286,7 +361,23 @@ impl SectionTank2 {
     /// Names the sides `first..=last` of a polygon outline as part `name` (see
     /// [`SectionTank2::named_sides`]).
     pub fn with_named_sides(mut self, name: &str, first: usize, last: usize) -> Self {
-        self.named_sides.push((name.to_string(), [first, last]));
+        self.named_parts
+            .push((name.to_string(), PartRange::Sides([first, last])));
+        self
+    }
+
+    /// Names the arc of a circle outline from `first` to `last` degrees (counter-clockwise
+    /// from +x) as part `name` (see [`PartRange::Arc`]).
+    pub fn with_named_arc(mut self, name: &str, first: f64, last: f64) -> Self {
+        self.named_parts
+            .push((name.to_string(), PartRange::Arc([first, last])));
+        self
+    }
+
+    /// Names pieces of a roofed rectangle as part `name` (see [`RectPiece`]).
+    pub fn with_named_pieces(mut self, name: &str, pieces: &[RectPiece]) -> Self {
+        self.named_parts
+            .push((name.to_string(), PartRange::Pieces(pieces.to_vec())));
         self
     }
 
@@ -333,12 +424,21 @@ impl SectionTank2 {
     pub fn outline(&self, dx: f64) -> Result<SectionOutline, GeometryError> {
         check_positive("particle spacing dx", dx)?;
         let sag = 1e-3 * dx;
-        if !self.named_sides.is_empty() && !matches!(self.shape, SectionShape::Polygon(_)) {
-            return Err(GeometryError::InvalidShape(
-                "tank parts: parts named by side ranges are for polygon outlines \
-                 (shape \"polygon\")"
-                    .into(),
-            ));
+        for (name, range) in &self.named_parts {
+            check_part_name("tank parts", name)?;
+            let fits = matches!(
+                (&self.shape, range),
+                (SectionShape::Polygon(_), PartRange::Sides(_))
+                    | (SectionShape::Circle { .. }, PartRange::Arc(_))
+                    | (SectionShape::RoofedRect { .. }, PartRange::Pieces(_))
+            );
+            if !fits {
+                return Err(GeometryError::InvalidShape(format!(
+                    "tank parts: part '{name}': a polygon names [first side, last side], a \
+                     circle [first angle, last angle] in degrees, a rectangle its pieces ({})",
+                    RectPiece::NAMES
+                )));
+            }
         }
         let builtin = || vec![PART_BOTTOM.to_string(), PART_WALL.into(), PART_ROOF.into()];
         match &self.shape {
@@ -350,6 +450,8 @@ impl SectionTank2 {
                 let (w, h) = (*width, *wall_height);
                 check_positive("tank width", w)?;
                 check_positive("tank wall height", h)?;
+                // the dome's radius, for the exact length of each of its chords
+                let mut dome_radius = None;
                 let (roof_points, roof_length): (Vec<[f64; 2]>, Option<f64>) = match roof {
                     SectionRoof::Cone { apex_height } => {
                         check_positive("cone roof rise", *apex_height)?;
@@ -367,6 +469,7 @@ impl SectionTank2 {
                                 0.5 * w
                             )));
                         }
+                        dome_radius = Some((0.25 * w * w + rise * rise) / (2.0 * rise));
                         let half = dome_profile(0.5 * w, h, *rise, sag);
                         let right = half.iter().map(|&[r, y]| [0.5 * w + r, y]);
                         let left = half.iter().rev().skip(1).map(|&[r, y]| [0.5 * w - r, y]);
@@ -386,21 +489,88 @@ impl SectionTank2 {
                         "tank roof: the roof must run above the floor between the wall tops".into(),
                     ));
                 }
+                if self.named_parts.is_empty() {
+                    let n = vertices.len();
+                    let side_part = (0..n)
+                        .map(|k| match k {
+                            0 => 0,
+                            1 => 1,
+                            k if k == n - 1 => 1,
+                            _ => 2,
+                        })
+                        .collect();
+                    return Ok(SectionOutline {
+                        vertices,
+                        side_part,
+                        part_names: builtin(),
+                        exact_length: vec![Some(w), Some(2.0 * h), roof_length],
+                    });
+                }
+                // parts named by piece: a vertex where the roof crosses mid-width splits it
+                // into its left and right halves
+                let mut split = vec![vertices[0], vertices[1], vertices[2]];
+                for k in 2..vertices.len() - 1 {
+                    let (a, b) = (vertices[k], vertices[k + 1]);
+                    let (da, db) = (a[0] - 0.5 * w, b[0] - 0.5 * w);
+                    if da * db < 0.0 {
+                        let t = da / (da - db);
+                        split.push([0.5 * w, a[1] + t * (b[1] - a[1])]);
+                    }
+                    split.push(b);
+                }
+                let vertices = split;
                 let n = vertices.len();
-                let side_part = (0..n)
-                    .map(|k| match k {
-                        0 => 0,
-                        1 => 1,
-                        k if k == n - 1 => 1,
-                        _ => 2,
+                // exact length of each side: a dome chord of length c stands for the arc
+                // 2a·asin(c/2a) of the dome's circle (radius a)
+                let side_exact: Vec<f64> = (0..n)
+                    .map(|k| {
+                        let (a, b) = (vertices[k], vertices[(k + 1) % n]);
+                        let c = (b[0] - a[0]).hypot(b[1] - a[1]);
+                        match dome_radius {
+                            Some(r) if k >= 2 && k + 1 < n => 2.0 * r * (0.5 * c / r).min(1.0).asin(),
+                            _ => c,
+                        }
                     })
                     .collect();
-                Ok(SectionOutline {
+                let mut outline = SectionOutline {
+                    side_part: (0..n)
+                        .map(|k| match k {
+                            0 => 0,
+                            1 => 1,
+                            k if k == n - 1 => 1,
+                            _ => 2,
+                        })
+                        .collect(),
                     vertices,
-                    side_part,
                     part_names: builtin(),
-                    exact_length: [Some(w), Some(2.0 * h), roof_length],
-                })
+                    exact_length: Vec::new(),
+                };
+                let mid_x = |k: usize| {
+                    0.5 * (outline.vertices[k][0] + outline.vertices[(k + 1) % n][0])
+                };
+                let claims: Vec<Vec<bool>> = self
+                    .named_parts
+                    .iter()
+                    .map(|(_, range)| {
+                        (0..n)
+                            .map(|k| match range {
+                                PartRange::Pieces(pieces) => {
+                                    pieces.iter().any(|p| p.covers(k, n, mid_x(k), w))
+                                }
+                                _ => false,
+                            })
+                            .collect()
+                    })
+                    .collect();
+                let describe = |k: usize| match k {
+                    0 => "the floor".to_string(),
+                    1 => "the right wall".into(),
+                    k if k == n - 1 => "the left wall".into(),
+                    _ => "the roof".into(),
+                };
+                self.assign_named_parts(&mut outline, &claims, describe)?;
+                outline.exact_length = exact_part_lengths(&outline, &side_exact);
+                Ok(outline)
             }
             SectionShape::Polygon(points) => {
                 let vertices = simple_ccw_polygon("tank outline", points)?;
@@ -412,47 +582,38 @@ impl SectionTank2 {
                     side_part: vec![1; n],
                     vertices,
                     part_names: builtin(),
-                    exact_length: [None; 3],
+                    exact_length: vec![None; 3],
                 };
                 outline.side_part = (0..n)
                     .map(|k| part_by_facing(outline.outward_normal(k)))
                     .collect();
-                let mut named_by: Vec<Option<&str>> = vec![None; n];
-                for (name, [first, last]) in &self.named_sides {
-                    let bad = |m: String| {
-                        GeometryError::InvalidShape(format!("tank parts: part '{name}' {m}"))
+                let mut claims = Vec::with_capacity(self.named_parts.len());
+                for (name, range) in &self.named_parts {
+                    let PartRange::Sides([first, last]) = *range else {
+                        unreachable!("checked above: a polygon's parts are side ranges")
                     };
-                    check_part_name("tank parts", name)?;
-                    if *first >= n || *last >= n {
-                        return Err(bad(format!(
-                            "names sides {first} to {last}, but the outline has sides 0 to {} \
-                             (side k joins point k to point k+1, the last back to point 0)",
+                    if first >= n || last >= n {
+                        return Err(GeometryError::InvalidShape(format!(
+                            "tank parts: part '{name}' names sides {first} to {last}, but the \
+                             outline has sides 0 to {} (side k joins point k to point k+1, the \
+                             last back to point 0)",
                             n - 1
                         )));
                     }
-                    let part = match outline.part_names.iter().position(|p| p == name) {
-                        Some(p) => p,
-                        None => {
-                            outline.part_names.push(name.clone());
-                            outline.part_names.len() - 1
-                        }
-                    } as u16;
                     let count = if last >= first {
                         last - first + 1
                     } else {
                         n - first + last + 1
                     };
+                    let mut claim = vec![false; n];
                     for m in 0..count {
-                        let k = (first + m) % n;
-                        if let Some(other) = named_by[k] {
-                            return Err(bad(format!(
-                                "names side {k}, already named by part '{other}'"
-                            )));
-                        }
-                        named_by[k] = Some(name);
-                        outline.side_part[ccw_side(k)] = part;
+                        claim[ccw_side((first + m) % n)] = true;
                     }
+                    claims.push(claim);
                 }
+                let given_side = |k: usize| format!("side {}", ccw_side(k));
+                self.assign_named_parts(&mut outline, &claims, given_side)?;
+                outline.exact_length = vec![None; outline.part_names.len()];
                 Ok(outline)
             }
             SectionShape::Circle { radius } => {
@@ -460,24 +621,128 @@ impl SectionTank2 {
                 check_positive("tank radius", r)?;
                 // a multiple of 8 sides puts vertices on the quarter boundaries (45°, 135°, …)
                 let n = circle_segments(r, dx, sag).div_ceil(8) * 8;
-                let vertices = (0..n)
-                    .map(|k| {
-                        let t = 2.0 * PI * k as f64 / n as f64;
-                        [r + r * t.cos(), r + r * t.sin()]
-                    })
+                let mut angles: Vec<f64> = (0..n).map(|k| 2.0 * PI * k as f64 / n as f64).collect();
+                // the ends of the named arcs are vertices too
+                let mut arcs = Vec::with_capacity(self.named_parts.len());
+                for (name, range) in &self.named_parts {
+                    let PartRange::Arc([first, last]) = *range else {
+                        unreachable!("checked above: a circle's parts are arcs")
+                    };
+                    if !(first.is_finite() && last.is_finite()) {
+                        return Err(GeometryError::InvalidShape(format!(
+                            "tank parts: part '{name}': the angles [{first}, {last}] must be \
+                             finite numbers of degrees"
+                        )));
+                    }
+                    let start = first.to_radians().rem_euclid(2.0 * PI);
+                    let mut span = (last - first).to_radians().rem_euclid(2.0 * PI);
+                    if span < 1e-12 {
+                        if (last - first).abs() < 1e-9 {
+                            return Err(GeometryError::InvalidShape(format!(
+                                "tank parts: part '{name}': the arc from {first}° to {last}° \
+                                 has no length (give two different angles, counter-clockwise \
+                                 from +x)"
+                            )));
+                        }
+                        span = 2.0 * PI;
+                    }
+                    arcs.push((start, span));
+                    angles.push(start);
+                    angles.push((start + span).rem_euclid(2.0 * PI));
+                }
+                angles.sort_by(f64::total_cmp);
+                angles.dedup_by(|b, a| (*b - *a).abs() < 1e-9);
+                if angles.len() > 1 && 2.0 * PI - angles[angles.len() - 1] < 1e-9 {
+                    angles.pop();
+                }
+                let n = angles.len();
+                let vertices = angles
+                    .iter()
+                    .map(|t| [r + r * t.cos(), r + r * t.sin()])
                     .collect();
+                let arc_of = |k: usize| {
+                    let end = if k + 1 < n { angles[k + 1] } else { 2.0 * PI + angles[0] };
+                    (angles[k], end)
+                };
                 let mut outline = SectionOutline {
                     vertices,
                     side_part: vec![1; n],
                     part_names: builtin(),
-                    exact_length: [Some(0.5 * PI * r), Some(PI * r), Some(0.5 * PI * r)],
+                    exact_length: Vec::new(),
                 };
                 outline.side_part = (0..n)
                     .map(|k| part_by_facing(outline.outward_normal(k)))
                     .collect();
+                if arcs.is_empty() {
+                    outline.exact_length =
+                        vec![Some(0.5 * PI * r), Some(PI * r), Some(0.5 * PI * r)];
+                    return Ok(outline);
+                }
+                let claims: Vec<Vec<bool>> = arcs
+                    .iter()
+                    .map(|&(start, span)| {
+                        (0..n)
+                            .map(|k| {
+                                let (a, b) = arc_of(k);
+                                (0.5 * (a + b) - start).rem_euclid(2.0 * PI) < span
+                            })
+                            .collect()
+                    })
+                    .collect();
+                let at_angle = |k: usize| {
+                    let (a, b) = arc_of(k);
+                    format!("the arc {:.3}° to {:.3}°", a.to_degrees(), b.to_degrees())
+                };
+                self.assign_named_parts(&mut outline, &claims, at_angle)?;
+                // each side stands for its arc, r·Δθ
+                let side_exact: Vec<f64> = (0..n)
+                    .map(|k| {
+                        let (a, b) = arc_of(k);
+                        r * (b - a)
+                    })
+                    .collect();
+                outline.exact_length = exact_part_lengths(&outline, &side_exact);
                 Ok(outline)
             }
         }
+    }
+
+    /// Puts the sides each part named by the user claims (`claims[p][k]`: part p covers side
+    /// k of `outline`) in that part, adding its name; errors for a side claimed twice, named
+    /// by `describe(k)`, or a part that covers no side.
+    fn assign_named_parts(
+        &self,
+        outline: &mut SectionOutline,
+        claims: &[Vec<bool>],
+        describe: impl Fn(usize) -> String,
+    ) -> Result<(), GeometryError> {
+        let n = outline.vertices.len();
+        let mut named_by: Vec<Option<&str>> = vec![None; n];
+        for ((name, _), claim) in self.named_parts.iter().zip(claims) {
+            let part = match outline.part_names.iter().position(|p| p == name) {
+                Some(p) => p,
+                None => {
+                    outline.part_names.push(name.clone());
+                    outline.part_names.len() - 1
+                }
+            } as u16;
+            if !claim.iter().any(|&c| c) {
+                return Err(GeometryError::InvalidShape(format!(
+                    "tank parts: part '{name}' covers no part of the outline"
+                )));
+            }
+            for k in (0..n).filter(|&k| claim[k]) {
+                if let Some(other) = named_by[k] {
+                    return Err(GeometryError::InvalidShape(format!(
+                        "tank parts: part '{name}' names {}, already named by part '{other}'",
+                        describe(k)
+                    )));
+                }
+                named_by[k] = Some(name);
+                outline.side_part[k] = part;
+            }
+        }
+        Ok(())
     }
 
     /// Builds the initial particles for spacing `dx` (m) on the lattice ((i+½)dx, (j+½)dx):
@@ -1347,5 +1612,156 @@ mod solid_tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("sides 0 to 7"), "{err}");
+    }
+}
+
+#[cfg(test)]
+mod named_part_tests {
+    use super::*;
+
+    /// Sum of the wall areas of part `name` (m per m of depth).
+    fn part_sum(setup: &ParticleSetup<2>, name: &str) -> f64 {
+        let p = setup
+            .part_names
+            .iter()
+            .position(|n| n == name)
+            .expect("the part exists") as u16;
+        setup
+            .wall_area
+            .iter()
+            .zip(&setup.wall_part)
+            .filter(|(_, &q)| q == p)
+            .map(|(a, _)| a)
+            .sum()
+    }
+
+    fn rel(a: f64, b: f64) -> f64 {
+        (a - b).abs() / b
+    }
+
+    #[test]
+    fn circle_arcs_sum_to_their_arc_lengths() {
+        // R = 1 m: a manway from 80° to 100°, a sump wrapping past 0° from 350° to 10°
+        // (= −10° to 10°), and the built-in quarters keep the rest of their arcs
+        let r = 1.0;
+        let dx = 0.02;
+        let tank = SectionTank2::new(SectionShape::Circle { radius: r }, 1.2)
+            .with_named_arc("manway", 80.0, 100.0)
+            .with_named_arc("nozzle", 350.0, 10.0);
+        let outline = tank.outline(dx).unwrap();
+        assert_eq!(
+            outline.part_names,
+            ["bottom", "wall", "roof", "manway", "nozzle"]
+        );
+        let deg = PI / 180.0;
+        // exact arcs: roof 90° − 20°, wall 180° − 20°, bottom 90°, manway 20°, nozzle 20°
+        let exact = [90.0 * deg, 160.0 * deg, 70.0 * deg, 20.0 * deg, 20.0 * deg];
+        let lengths = outline.part_lengths();
+        for p in 0..5 {
+            // the part lengths are the arcs r·Δθ of their sides: exact to roundoff
+            assert!(rel(lengths[p], exact[p] * r) < 1e-12, "{p}: {}", lengths[p]);
+        }
+        let setup = tank.build(dx).unwrap();
+        for (p, name) in outline.part_names.iter().enumerate() {
+            // the particle areas add up to the part lengths (1 %: the requirement)
+            let sum = part_sum(&setup, name);
+            assert!(rel(sum, exact[p] * r) < 0.01, "{name}: {sum} vs {}", exact[p]);
+        }
+        // the manway's particles lie between 80° and 100° (within a lattice cell)
+        let manway = 3u16;
+        for (x, &part) in setup.wall_positions.iter().zip(&setup.wall_part) {
+            if part == manway {
+                let a = (x.y - r).atan2(x.x - r).to_degrees();
+                assert!(a > 78.0 && a < 102.0, "{a}");
+            }
+        }
+    }
+
+    #[test]
+    fn circle_arcs_are_checked() {
+        let circle = || SectionTank2::new(SectionShape::Circle { radius: 1.0 }, 1.0);
+        let err = circle()
+            .with_named_arc("a", 10.0, 10.0)
+            .check_shape()
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("no length"), "{err}");
+        let err = circle()
+            .with_named_arc("a", 0.0, 90.0)
+            .with_named_arc("b", 80.0, 120.0)
+            .check_shape()
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("already named by part 'a'"), "{err}");
+        // a whole turn is the whole circle: 2πR
+        let o = circle().with_named_arc("shell", 0.0, 360.0).outline(0.05).unwrap();
+        assert!(rel(o.part_lengths()[3], 2.0 * PI) < 1e-12);
+        // side ranges are for polygons
+        assert!(circle().with_named_sides("a", 0, 1).check_shape().is_err());
+    }
+
+    #[test]
+    fn rectangle_pieces_sum_to_their_lengths() {
+        let dx = 0.02;
+        let (w, h) = (2.0, 1.0);
+        let rect = |roof: SectionRoof| SectionShape::RoofedRect {
+            width: w,
+            wall_height: h,
+            roof,
+        };
+        // cone rising 0.4 m: each slope √(1² + 0.4²)
+        let slope = 1.0f64.hypot(0.4);
+        let tank = SectionTank2::new(rect(SectionRoof::Cone { apex_height: 0.4 }), 0.6)
+            .with_named_pieces("windward", &[RectPiece::LeftWall, RectPiece::RoofLeft])
+            .with_named_pieces("floor", &[RectPiece::Floor]);
+        let setup = tank.build(dx).unwrap();
+        assert_eq!(
+            setup.part_names,
+            ["bottom", "wall", "roof", "windward", "floor"]
+        );
+        for (name, exact) in [
+            ("windward", h + slope),
+            ("floor", w),
+            ("wall", h),
+            ("roof", slope),
+        ] {
+            let sum = part_sum(&setup, name);
+            assert!(rel(sum, exact) < 0.01, "{name}: {sum} vs {exact}");
+        }
+        // a dome's halves: each the arc a·asin(1/a) of half-width 1 m, rise 0.4 m
+        let half_arc = dome_arc_length(1.0, 0.4);
+        let tank = SectionTank2::new(rect(SectionRoof::Dome { rise: 0.4 }), 0.6)
+            .with_named_pieces("lee_roof", &[RectPiece::RoofRight]);
+        let o = tank.outline(dx).unwrap();
+        let lengths = o.part_lengths();
+        assert!(rel(lengths[3], half_arc) < 1e-9, "{}", lengths[3]);
+        assert!(rel(lengths[2], half_arc) < 1e-9, "{}", lengths[2]);
+        let setup = tank.build(dx).unwrap();
+        assert!(rel(part_sum(&setup, "lee_roof"), half_arc) < 0.01);
+        // a flat polyline roof split at mid-width where no vertex lies
+        let flat = SectionRoof::Outline(vec![[2.0, 1.0], [0.0, 1.0]]);
+        let tank = SectionTank2::new(rect(flat), 0.6)
+            .with_named_pieces("left_half", &[RectPiece::RoofLeft]);
+        let setup = tank.build(dx).unwrap();
+        assert!(rel(part_sum(&setup, "left_half"), 1.0) < 0.01);
+        assert!(rel(part_sum(&setup, "roof"), 1.0) < 0.01);
+        // the same piece in two parts is an error
+        let err = SectionTank2::new(rect(SectionRoof::Cone { apex_height: 0.4 }), 0.6)
+            .with_named_pieces("a", &[RectPiece::Roof])
+            .with_named_pieces("b", &[RectPiece::RoofLeft])
+            .check_shape()
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("already named by part 'a'"), "{err}");
+    }
+
+    #[test]
+    fn rectangles_and_circles_without_parts_are_unchanged() {
+        // no parts: the outline of the built-in parts alone, exact lengths in closed form
+        let o = SectionTank2::new(SectionShape::Circle { radius: 1.0 }, 1.0)
+            .outline(0.05)
+            .unwrap();
+        assert_eq!(o.exact_length, vec![Some(0.5 * PI), Some(PI), Some(0.5 * PI)]);
+        assert_eq!(o.vertices.len() % 8, 0);
     }
 }

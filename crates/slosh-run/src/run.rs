@@ -5,7 +5,9 @@
 
 use crate::load_filter::{add_filtered_columns, LoadFilter, LoadPeak};
 use crate::motion::{AfterSettling, GroundMotion, TIME_EPS};
-use crate::roof::{crest, find_impacts, RoofImpact, RoofMonitor, RoofTank, WET_PRESSURE};
+use crate::roof::{
+    crest, find_impacts, RoofImpact, RoofMonitor, RoofSnapshot, RoofTank, WET_PRESSURE,
+};
 use crate::stepping::{advance, HookError, StepError, StepHooks, StopRequest, Until};
 use slosh_core::{LoadPeaks, PartLoads, SimState, Simulation, StepStats};
 use std::collections::VecDeque;
@@ -122,6 +124,10 @@ pub struct RunResult<const D: usize> {
     pub stats: StepStats,
     /// The roof pressure map and the 2D snapshots of paper Fig. 7.
     pub roof: RoofMonitor<D>,
+    /// 2D runs: the fluid at the output row of the largest wave, the largest |η| at either
+    /// wall gauge (`eta_left`, `eta_right`), with that |η| (m); `None` in 3D. After a resume
+    /// from a checkpoint, the largest wave since the resume.
+    pub largest_wave_frame: Option<(RoofSnapshot, f64)>,
     /// True when the liquid touched the roof (a time-windowed roof pressure above
     /// [`WET_PRESSURE`] in a row or at any step).
     pub roof_contact: bool,
@@ -326,6 +332,8 @@ struct CaseMeasurements<'o, const D: usize, O: ?Sized> {
     next_output: f64,
     next_frame: f64,
     compression: Option<f64>,
+    /// 2D: the fluid at the row of the largest wall-gauge |η| so far, and that |η| (m).
+    largest_wave: Option<(RoofSnapshot, f64)>,
     /// Wall time of the loop before this call of the run (s), from a checkpoint.
     wall_time_before: f64,
     started: Instant,
@@ -440,8 +448,19 @@ impl<const D: usize, O: Observer<D> + ?Sized> StepHooks<D> for CaseMeasurements<
                     .map(|z| z - fill)
                     .unwrap_or(f64::NAN)
             };
-            values.push(eta(&self.wall_gauges.0));
-            values.push(eta(&self.wall_gauges.1));
+            let (left, right) = (eta(&self.wall_gauges.0), eta(&self.wall_gauges.1));
+            values.push(left);
+            values.push(right);
+            let wave = left.abs().max(right.abs());
+            if D == 2 && wave.is_finite() && self.largest_wave.as_ref().is_none_or(|w| wave > w.1) {
+                let fluid = sim.fluid();
+                let snapshot = RoofSnapshot {
+                    time: t,
+                    position: fluid.position.iter().map(|p| [p[0], p[D - 1]]).collect(),
+                    pressure: fluid.pressure.clone(),
+                };
+                self.largest_wave = Some((snapshot, wave));
+            }
             for g in &self.plan.gauges {
                 values.push(eta(&g.horizontal));
             }
@@ -547,6 +566,7 @@ where
         next_output: 0.0,
         next_frame: 0.0,
         compression: None,
+        largest_wave: None,
         wall_time_before: 0.0,
         started: Instant::now(),
         observer,
@@ -618,6 +638,7 @@ where
         mut series,
         roof,
         compression,
+        largest_wave,
         ..
     } = m;
     let mut columns = names;
@@ -636,6 +657,7 @@ where
         roof_contact: false,
         impacts: Vec::new(),
         roof,
+        largest_wave_frame: largest_wave,
         hydrostatic_compression: compression.unwrap_or_else(|| sim.mean_compression()),
         particles_fluid,
         particles_wall,

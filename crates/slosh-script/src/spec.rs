@@ -7,8 +7,8 @@ use slosh_core::{
     NeighbourBackend, PairScheme, SoundSpeedRule, SphParams, WallPressureMethod,
 };
 use slosh_geometry::{
-    bounding_box_2d, InitialSurface, InternalSolid, SectionRoof, SectionShape, SectionTank2,
-    Solid2, SolidShape, TankMesh,
+    bounding_box_2d, InitialSurface, InternalSolid, RectPiece, SectionRoof, SectionShape,
+    SectionTank2, Solid2, SolidShape, TankMesh,
 };
 use std::collections::BTreeSet;
 
@@ -160,6 +160,10 @@ pub enum TankSpec {
         /// Fixed solids inside the tank (baffles, columns); a closed (roofed) section only.
         #[serde(skip_serializing_if = "Vec::is_empty")]
         solids: Vec<SolidSpec>,
+        /// Parts named by the user on a roofed rectangle: name and the pieces it covers
+        /// (`floor`, `left_wall`, `right_wall`, `roof`, `roof_left`, `roof_right`).
+        #[serde(skip_serializing_if = "Vec::is_empty")]
+        parts: Vec<(String, Vec<String>)>,
     },
     /// 2D section of any closed outline (per metre of depth): a polygon or a circle.
     Section {
@@ -178,6 +182,10 @@ pub enum TankSpec {
         /// joins point k to point k+1 of the outline as given).
         #[serde(skip_serializing_if = "Vec::is_empty")]
         parts: Vec<(String, [usize; 2])>,
+        /// Parts named by the user on a circle: name and the first and last angle of its arc
+        /// (degrees from +x, counter-clockwise).
+        #[serde(skip_serializing_if = "Vec::is_empty")]
+        arc_parts: Vec<(String, [f64; 2])>,
     },
     /// 3D upright cylinder, axis vertical through x = y = 0.
     Cylinder {
@@ -514,6 +522,80 @@ fn read_parts(r: &mut MapReader) -> Result<Vec<(String, [usize; 2])>, String> {
         .collect()
 }
 
+/// Reads a circle's `parts`: a map from part name to [first angle, last angle] (degrees from
+/// +x, counter-clockwise; wrapping past 0° allowed).
+fn read_arc_parts(r: &mut MapReader) -> Result<Vec<(String, [f64; 2])>, String> {
+    let Some(d) = r.get("parts") else {
+        return Ok(Vec::new());
+    };
+    let map = d.read_lock::<Map>().ok_or_else(|| {
+        format!(
+            "tank: 'parts' of a circle must be a map from part name to [first angle, last              angle] in degrees (got {d})"
+        )
+    })?;
+    map.iter()
+        .map(|(name, range)| {
+            let pair = range.as_array_ref().ok().and_then(|a| {
+                (a.len() == 2)
+                    .then(|| Some([dynamic_to_f64(&a[0])?, dynamic_to_f64(&a[1])?]))
+                    .flatten()
+            });
+            pair.filter(|p| p[0].is_finite() && p[1].is_finite())
+                .map(|p| (name.to_string(), p))
+                .ok_or_else(|| {
+                    format!(
+                        "tank: parts.{name} must be [first angle, last angle], two numbers of                          degrees counter-clockwise from +x (e.g. [80.0, 100.0]; got {range})"
+                    )
+                })
+        })
+        .collect()
+}
+
+/// Reads a rectangle's `parts`: a map from part name to a piece name or a list of them
+/// ([`RectPiece::from_name`]).
+fn read_piece_parts(r: &mut MapReader) -> Result<Vec<(String, Vec<String>)>, String> {
+    let Some(d) = r.get("parts") else {
+        return Ok(Vec::new());
+    };
+    let bad = |name: &str, got: &Dynamic| {
+        format!(
+            "tank: parts.{name} of a rectangle must be a piece or a list of pieces, from {}              (got {got})",
+            RectPiece::NAMES
+        )
+    };
+    let map = d.read_lock::<Map>().ok_or_else(|| {
+        format!(
+            "tank: 'parts' of a rectangle must be a map from part name to pieces, from {}              (got {d})",
+            RectPiece::NAMES
+        )
+    })?;
+    map.iter()
+        .map(|(name, value)| {
+            let names: Vec<String> = if let Ok(s) = value.clone().into_string() {
+                vec![s]
+            } else if let Ok(a) = value.as_array_ref() {
+                a.iter()
+                    .map(|v| v.clone().into_string().map_err(|_| bad(name, value)))
+                    .collect::<Result<_, _>>()?
+            } else {
+                return Err(bad(name, value));
+            };
+            if names.is_empty() {
+                return Err(bad(name, value));
+            }
+            for piece in &names {
+                if RectPiece::from_name(piece).is_none() {
+                    return Err(format!(
+                        "tank: parts.{name}: unknown piece \"{piece}\" (use {})",
+                        RectPiece::NAMES
+                    ));
+                }
+            }
+            Ok((name.to_string(), names))
+        })
+        .collect()
+}
+
 /// A 2D section's roof other than flat or none.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub enum SectionRoofSpec {
@@ -595,6 +677,7 @@ impl Default for TankSpec {
             tilt: 0.0,
             tilt_shape: "plane".into(),
             solids: Vec::new(),
+            parts: Vec::new(),
         }
     }
 }
@@ -690,10 +773,30 @@ impl TankSpec {
             .into_iter()
             .map(|(n, w)| (n.to_string(), w))
             .collect();
-        let (named, solids): (&[(String, [usize; 2])], &[SolidSpec]) = match self {
-            TankSpec::Section { parts, solids, .. } => (parts, solids),
-            TankSpec::Rect { solids, .. } => (&[], solids),
-            _ => (&[], &[]),
+        let (named, solids): (Vec<(String, String)>, &[SolidSpec]) = match self {
+            TankSpec::Section {
+                parts,
+                arc_parts,
+                solids,
+                ..
+            } => (
+                parts
+                    .iter()
+                    .map(|(n, [first, last])| (n.clone(), format!("outline sides {first} to {last}")))
+                    .chain(arc_parts.iter().map(|(n, [first, last])| {
+                        (n.clone(), format!("the arc from {first}° to {last}°"))
+                    }))
+                    .collect(),
+                solids,
+            ),
+            TankSpec::Rect { parts, solids, .. } => (
+                parts
+                    .iter()
+                    .map(|(n, pieces)| (n.clone(), pieces.join(" + ")))
+                    .collect(),
+                solids,
+            ),
+            _ => (Vec::new(), &[]),
         };
         if !named.is_empty() {
             for (name, what) in parts.iter_mut() {
@@ -710,8 +813,8 @@ impl TankSpec {
                 }
                 None => parts.push((name.to_string(), what)),
             };
-        for (name, [first, last]) in named {
-            describe(name, format!("outline sides {first} to {last}"));
+        for (name, what) in named {
+            describe(&name, what);
         }
         let solids_3d: &[InternalSolid] = match self {
             TankSpec::Cylinder { solids, .. }
@@ -859,7 +962,7 @@ impl TankSpec {
     pub fn section_tank(&self) -> Result<Option<SectionTank2>, String> {
         // a flat-roofed rectangle with solids: the roof as a straight polyline
         let flat;
-        let (shape, depth, tilt, tilt_shape, solids, parts) = match self {
+        let (shape, depth, tilt, tilt_shape, solids) = match self {
             TankSpec::Rect {
                 roof: false,
                 solids,
@@ -868,6 +971,16 @@ impl TankSpec {
                 return Err(
                     "tank: internal solids need a closed 2D section: give the rectangle a roof \
                      (roof: \"flat\", \"cone\", …) or use shape \"polygon\""
+                        .into(),
+                )
+            }
+            TankSpec::Rect {
+                roof: false, parts, ..
+            } if !parts.is_empty() => {
+                return Err(
+                    "tank: parts of a rectangle need a closed 2D section: give the rectangle a \
+                     roof (roof: \"flat\", \"cone\", …) or use shape \"polygon\" with parts \
+                     by side"
                         .into(),
                 )
             }
@@ -881,7 +994,8 @@ impl TankSpec {
                 tilt,
                 tilt_shape,
                 solids,
-            } if roof_shape.is_some() || !solids.is_empty() => {
+                parts: _,
+            } if roof_shape.is_some() || !solids.is_empty() || self.has_named_parts() => {
                 let roof = match roof_shape {
                     Some(roof) => roof,
                     None => {
@@ -892,7 +1006,8 @@ impl TankSpec {
                 if layout != "offset" {
                     return Err(format!(
                         "tank: layout \"{layout}\" is for flat or open roofs without solids; a \
-                         cone, dome or polyline roof or internal solids use the offset layout"
+                         cone, dome or polyline roof, internal solids or parts use the offset \
+                         layout"
                     ));
                 }
                 let roof = match roof {
@@ -905,7 +1020,7 @@ impl TankSpec {
                     wall_height: *height,
                     roof,
                 };
-                (shape, depth, tilt, tilt_shape, solids, &[][..])
+                (shape, depth, tilt, tilt_shape, solids)
             }
             TankSpec::Section {
                 outline,
@@ -913,7 +1028,7 @@ impl TankSpec {
                 tilt,
                 tilt_shape,
                 solids,
-                parts,
+                ..
             } => {
                 let shape = match outline {
                     SectionOutlineSpec::Polygon(points) => SectionShape::Polygon(points.clone()),
@@ -921,7 +1036,7 @@ impl TankSpec {
                         SectionShape::Circle { radius: *radius }
                     }
                 };
-                (shape, depth, tilt, tilt_shape, solids, &parts[..])
+                (shape, depth, tilt, tilt_shape, solids)
             }
             _ => return Ok(None),
         };
@@ -931,10 +1046,40 @@ impl TankSpec {
         for s in solids {
             tank = tank.with_solid(s.solid());
         }
-        for (name, [first, last]) in parts {
-            tank = tank.with_named_sides(name, *first, *last);
+        match self {
+            TankSpec::Section {
+                parts, arc_parts, ..
+            } => {
+                for (name, [first, last]) in parts {
+                    tank = tank.with_named_sides(name, *first, *last);
+                }
+                for (name, [first, last]) in arc_parts {
+                    tank = tank.with_named_arc(name, *first, *last);
+                }
+            }
+            TankSpec::Rect { parts, .. } => {
+                for (name, pieces) in parts {
+                    let pieces: Vec<RectPiece> = pieces
+                        .iter()
+                        .filter_map(|p| RectPiece::from_name(p))
+                        .collect();
+                    tank = tank.with_named_pieces(name, &pieces);
+                }
+            }
+            _ => {}
         }
         Ok(Some(tank))
+    }
+
+    /// Whether the user named parts of the tank's outline (`parts`).
+    fn has_named_parts(&self) -> bool {
+        match self {
+            TankSpec::Rect { parts, .. } => !parts.is_empty(),
+            TankSpec::Section {
+                parts, arc_parts, ..
+            } => !parts.is_empty() || !arc_parts.is_empty(),
+            _ => false,
+        }
     }
 
     /// Parses and checks a `tank(#{…})` map: unknown keys, and the outline or roof of a 2D
@@ -963,6 +1108,7 @@ impl TankSpec {
                     tilt: r.f64_or("tilt", 0.0)?,
                     tilt_shape: tilt_shape(&mut r)?,
                     solids: read_solids(&mut r)?,
+                    parts: read_piece_parts(&mut r)?,
                 }
             }
             "polygon" => TankSpec::Section {
@@ -974,6 +1120,7 @@ impl TankSpec {
                 tilt_shape: tilt_shape(&mut r)?,
                 solids: read_solids(&mut r)?,
                 parts: read_parts(&mut r)?,
+                arc_parts: Vec::new(),
             },
             "circle" => TankSpec::Section {
                 outline: SectionOutlineSpec::Circle {
@@ -984,6 +1131,7 @@ impl TankSpec {
                 tilt_shape: tilt_shape(&mut r)?,
                 solids: read_solids(&mut r)?,
                 parts: Vec::new(),
+                arc_parts: read_arc_parts(&mut r)?,
             },
             "cylinder" => TankSpec::Cylinder {
                 radius: r.f64_or("radius", 0.5)?,
@@ -1422,6 +1570,7 @@ fn wall_pressure_name(m: WallPressureMethod) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use slosh_geometry::PartRange;
 
     fn numerics(pairs: &[(&str, Dynamic)]) -> Result<(SphParams, String, Resolution), String> {
         let mut map = Map::new();
@@ -1536,6 +1685,7 @@ mod tests {
             tilt: 0.0,
             tilt_shape: "plane".into(),
             solids: Vec::new(),
+            parts: Vec::new(),
         };
         assert!(Resolution::PerRadius(10.0).spacing_for(&rect).is_err());
     }
@@ -1586,7 +1736,10 @@ mod tests {
                 Solid2::circle("column", [0.2, 0.2], 0.05)
             ]
         );
-        assert_eq!(tank.named_sides, vec![("floor".to_string(), [0, 0])]);
+        assert_eq!(
+            tank.named_parts,
+            vec![("floor".to_string(), PartRange::Sides([0, 0]))]
+        );
         let names: Vec<String> = spec.part_descriptions().into_iter().map(|p| p.0).collect();
         assert_eq!(
             names,
@@ -1711,5 +1864,67 @@ mod tests {
         assert!(err.contains("delta"), "{err}");
         let err = numerics(&[("shifting", Dynamic::from(-1.0))]).unwrap_err();
         assert!(err.contains("shifting"), "{err}");
+    }
+
+    #[test]
+    fn circle_and_rectangle_parts_are_read_and_checked() {
+        let map = |pairs: Vec<(&str, Dynamic)>| -> Map {
+            pairs.into_iter().map(|(k, v)| (k.into(), v)).collect()
+        };
+        let pair = |a: f64, b: f64| Dynamic::from(vec![Dynamic::from(a), Dynamic::from(b)]);
+        let circle = TankSpec::from_map_checked(&map(vec![
+            ("shape", Dynamic::from("circle")),
+            ("radius", Dynamic::from(1.0)),
+            ("depth", Dynamic::from(1.5)),
+            ("parts", Dynamic::from(map(vec![("manway", pair(80.0, 100.0))]))),
+        ]))
+        .unwrap();
+        let tank = circle.section_tank().unwrap().unwrap();
+        assert_eq!(
+            tank.named_parts,
+            vec![("manway".to_string(), PartRange::Arc([80.0, 100.0]))]
+        );
+        let names: Vec<String> = circle.part_descriptions().into_iter().map(|p| p.0).collect();
+        assert_eq!(names, ["bottom", "wall", "roof", "manway"]);
+        // overlapping arcs are refused at the tank(…) call
+        let err = TankSpec::from_map_checked(&map(vec![
+            ("shape", Dynamic::from("circle")),
+            (
+                "parts",
+                Dynamic::from(map(vec![("a", pair(0.0, 90.0)), ("b", pair(45.0, 135.0))])),
+            ),
+        ]))
+        .unwrap_err();
+        assert!(err.contains("already named"), "{err}");
+        // a cone-roofed rectangle: a piece or a list of pieces
+        let pieces = Dynamic::from(vec![Dynamic::from("left_wall"), Dynamic::from("roof_left")]);
+        let rect = TankSpec::from_map_checked(&map(vec![
+            ("roof", Dynamic::from("cone")),
+            (
+                "parts",
+                Dynamic::from(map(vec![
+                    ("windward", pieces),
+                    ("lee_roof", Dynamic::from("roof_right")),
+                ])),
+            ),
+        ]))
+        .unwrap();
+        let tank = rect.section_tank().unwrap().unwrap();
+        assert_eq!(tank.named_parts.len(), 2);
+        // a flat rectangle with parts is built as a section; without, as before
+        let flat = TankSpec::from_map_checked(&map(vec![(
+            "parts",
+            Dynamic::from(map(vec![("lid", Dynamic::from("roof"))])),
+        )]))
+        .unwrap();
+        assert!(flat.section_tank().unwrap().is_some());
+        assert!(TankSpec::default().section_tank().unwrap().is_none());
+        // unknown pieces are named with the list of known ones
+        let err = TankSpec::from_map_checked(&map(vec![(
+            "parts",
+            Dynamic::from(map(vec![("lid", Dynamic::from("ceiling"))])),
+        )]))
+        .unwrap_err();
+        assert!(err.contains("ceiling") && err.contains("roof_left"), "{err}");
     }
 }

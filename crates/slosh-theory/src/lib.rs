@@ -16,5 +16,6 @@ pub mod modal;
 pub mod natural;
 pub mod report;
 pub mod roof;
+pub mod section_modes;
 
 pub use report::{tank_report, SineExcitation, TankInput, TankReport, TankShape};

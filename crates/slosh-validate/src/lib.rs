@@ -479,6 +479,20 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             ),
         ));
         all.push((
+            "2D sections: free sloshing of a circle filled to 3/4 (overhanging roof)",
+            one(
+                "2D sections: free sloshing under an overhanging roof (circle, h = 1.5 R)",
+                sections::free_sloshing_overhang,
+            ),
+        ));
+        all.push((
+            "2D sections: cone-roof impact under the §3.2 excitation",
+            one(
+                "2D sections: cone-roof impact under the §3.2 excitation (reported)",
+                sections::cone_roof_impact,
+            ),
+        ));
+        all.push((
             "3D box against 2D",
             one("3D: thin box against the 2D code", three_d::box_vs_2d),
         ));
