@@ -140,6 +140,7 @@ fn draw_snapshot<const D: usize>(
             values[i as usize * ny + j as usize] = pr;
         }
     }
+    fill_interior_holes(&mut values, nx, ny);
     slosh_io::heatmap(
         path,
         &PlotSpec::new(title, "x [m]", "y [m]"),
@@ -151,4 +152,72 @@ fn draw_snapshot<const D: usize>(
         },
     )?;
     Ok(())
+}
+
+/// Fills the empty cells of a binned snapshot that lie inside the liquid — all but at most
+/// two of their neighbours (and at least four) hold a particle — with the mean of those
+/// neighbours. A disordered
+/// particle arrangement leaves some lattice cells empty and others doubly filled; the free
+/// surface and splashes (cells with fewer filled neighbours) stay empty.
+fn fill_interior_holes(values: &mut [f64], nx: usize, ny: usize) {
+    let source = values.to_vec();
+    for i in 0..nx {
+        for j in 0..ny {
+            if !source[i * ny + j].is_nan() {
+                continue;
+            }
+            let (mut sum, mut filled, mut neighbours) = (0.0, 0, 0);
+            for (di, dj) in [
+                (-1, -1),
+                (-1, 0),
+                (-1, 1),
+                (0, -1),
+                (0, 1),
+                (1, -1),
+                (1, 0),
+                (1, 1),
+            ] {
+                let (a, b) = (i as i64 + di, j as i64 + dj);
+                if a < 0 || b < 0 || a >= nx as i64 || b >= ny as i64 {
+                    continue;
+                }
+                neighbours += 1;
+                let v = source[a as usize * ny + b as usize];
+                if !v.is_nan() {
+                    sum += v;
+                    filled += 1;
+                }
+            }
+            if filled >= 4 && filled + 2 >= neighbours {
+                values[i * ny + j] = sum / filled as f64;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fill_interior_holes;
+
+    /// A 4 × 4 block of liquid under 2 empty rows, with one empty cell inside and one at the
+    /// side wall: both are filled with their neighbours' mean; the empty rows above the
+    /// surface stay empty.
+    #[test]
+    fn holes_inside_the_liquid_are_filled_and_the_surface_is_kept() {
+        let (nx, ny) = (4, 6);
+        let mut values = vec![f64::NAN; nx * ny];
+        for i in 0..nx {
+            for j in 0..4 {
+                values[i * ny + j] = 1.0;
+            }
+        }
+        values[ny + 1] = f64::NAN; // inside
+        values[2] = f64::NAN; // at the wall i = 0
+        fill_interior_holes(&mut values, nx, ny);
+        assert_eq!(values[ny + 1], 1.0);
+        assert_eq!(values[2], 1.0);
+        for i in 0..nx {
+            assert!(values[i * ny + 4].is_nan() && values[i * ny + 5].is_nan());
+        }
+    }
 }

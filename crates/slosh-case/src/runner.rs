@@ -514,8 +514,7 @@ fn run_built<const D: usize>(
     // 2D: the fluid at the largest wave, whether or not the roof was struck
     if opts.plots {
         if let Some(frame) = &result.largest_wave_frame {
-            if let Err(e) = crate::roof_files::write_frame_peak(&result.roof, out, frame, settle)
-            {
+            if let Err(e) = crate::roof_files::write_frame_peak(&result.roof, out, frame, settle) {
                 summary
                     .output_errors
                     .push(format!("largest-wave frame plot: {e:#}"));

@@ -320,6 +320,35 @@ fn run_help_lists_the_shipped_scripts() {
     }
 }
 
+/// Every script shipped in `scripts/` reads, declares its parameters and describes its tank
+/// (`--list-params` evaluates the whole script, meshes and motion records included), so a
+/// user starting from any of them meets no error the repository could have caught.
+#[test]
+fn every_shipped_script_lists_its_parameters() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(root.join("scripts")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().and_then(|e| e.to_str()) != Some("rhai") {
+            continue;
+        }
+        let out = slosh()
+            .args(["run", path.to_str().unwrap(), "--list-params"])
+            .current_dir(&root)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success() && !stdout.trim().is_empty(),
+            "{}: {stderr}",
+            path.display()
+        );
+        checked += 1;
+    }
+    assert!(checked >= 10, "only {checked} scripts found");
+}
+
 /// Writes `script` as `case.rhai` in `dir`.
 fn write_case(dir: &Path, script: &str) -> PathBuf {
     let path = dir.join("case.rhai");

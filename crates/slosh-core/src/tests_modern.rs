@@ -134,7 +134,12 @@ fn omega1(width: f64, depth: f64, g: f64) -> f64 {
 /// Free sloshing from a tilted surface (tilt at the left wall): the period of the fluid's
 /// centre-of-mass oscillation along x, from its crossings of the tank centre line (the first
 /// crossing skipped). Returns (period, theory, relative error).
-pub(crate) fn free_sloshing_period(params: SphParams, width: f64, depth: f64, dx: f64) -> (f64, f64, f64) {
+pub(crate) fn free_sloshing_period(
+    params: SphParams,
+    width: f64,
+    depth: f64,
+    dx: f64,
+) -> (f64, f64, f64) {
     let setup = box_tank::<2>([width, 2.0 * depth], depth, 0.02, dx);
     let mut sim = Simulation::new(setup, params).unwrap();
     let h_still = sim.still_level();

@@ -44,9 +44,8 @@ fn riemann_pair_2d_hydrostatics_and_period() {
 fn riemann_pair_3d_stays_stable() {
     let setup = box_tank::<3>([0.2, 0.1, 0.2], 0.1, 0.01, 0.02);
     let mut sim = Simulation::new(setup, riemann_params()).unwrap();
-    let mean = |s: &Simulation<3>| {
-        s.fluid().density.iter().sum::<f64>() / s.fluid().density.len() as f64
-    };
+    let mean =
+        |s: &Simulation<3>| s.fluid().density.iter().sum::<f64>() / s.fluid().density.len() as f64;
     let rho_start = mean(&sim);
     for _ in 0..600 {
         let t = sim.time();
@@ -55,7 +54,10 @@ fn riemann_pair_3d_stays_stable() {
     }
     assert_eq!(sim.fluid_inside(), sim.fluid().position.len());
     let drift = mean(&sim) / rho_start - 1.0;
-    eprintln!("Riemann pair 3D: t = {:.3} s, mean density drift {drift:+.2e}", sim.time());
+    eprintln!(
+        "Riemann pair 3D: t = {:.3} s, mean density drift {drift:+.2e}",
+        sim.time()
+    );
     assert!(drift.abs() < 5e-3, "mean density drift {drift}");
     assert!(sim.step_description().contains("Riemann"));
 }

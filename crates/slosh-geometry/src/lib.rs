@@ -88,7 +88,8 @@ pub use error::{GeometryError, MAX_PARTICLES};
 pub use mesh::{box_mesh, circle_segments, revolve_profile, SurfaceMesh};
 pub use rect2::{Layout, RectInterior2, RectLattice2, RectTank2};
 pub use section2::{
-    bounding_box_2d, PartRange, RectPiece, SectionOutline, SectionRegion2, SectionRoof, SectionShape, SectionTank2,
+    bounding_box_2d, PartRange, RectPiece, SectionOutline, SectionRegion2, SectionRoof,
+    SectionShape, SectionTank2,
 };
 pub use solid2::{Solid2, Solid2Shape};
 pub use tank3::{BoxTank, CylinderTank, InternalSolid, Roof, SolidShape, SphereTank, TankRegion3};

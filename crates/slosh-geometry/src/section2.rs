@@ -527,7 +527,9 @@ impl SectionTank2 {
                         let (a, b) = (vertices[k], vertices[(k + 1) % n]);
                         let c = (b[0] - a[0]).hypot(b[1] - a[1]);
                         match dome_radius {
-                            Some(r) if k >= 2 && k + 1 < n => 2.0 * r * (0.5 * c / r).min(1.0).asin(),
+                            Some(r) if k >= 2 && k + 1 < n => {
+                                2.0 * r * (0.5 * c / r).min(1.0).asin()
+                            }
                             _ => c,
                         }
                     })
@@ -545,9 +547,8 @@ impl SectionTank2 {
                     part_names: builtin(),
                     exact_length: Vec::new(),
                 };
-                let mid_x = |k: usize| {
-                    0.5 * (outline.vertices[k][0] + outline.vertices[(k + 1) % n][0])
-                };
+                let mid_x =
+                    |k: usize| 0.5 * (outline.vertices[k][0] + outline.vertices[(k + 1) % n][0]);
                 let claims: Vec<Vec<bool>> = self
                     .named_parts
                     .iter()
@@ -661,7 +662,11 @@ impl SectionTank2 {
                     .map(|t| [r + r * t.cos(), r + r * t.sin()])
                     .collect();
                 let arc_of = |k: usize| {
-                    let end = if k + 1 < n { angles[k + 1] } else { 2.0 * PI + angles[0] };
+                    let end = if k + 1 < n {
+                        angles[k + 1]
+                    } else {
+                        2.0 * PI + angles[0]
+                    };
                     (angles[k], end)
                 };
                 let mut outline = SectionOutline {
@@ -1665,7 +1670,11 @@ mod named_part_tests {
         for (p, name) in outline.part_names.iter().enumerate() {
             // the particle areas add up to the part lengths (1 %: the requirement)
             let sum = part_sum(&setup, name);
-            assert!(rel(sum, exact[p] * r) < 0.01, "{name}: {sum} vs {}", exact[p]);
+            assert!(
+                rel(sum, exact[p] * r) < 0.01,
+                "{name}: {sum} vs {}",
+                exact[p]
+            );
         }
         // the manway's particles lie between 80° and 100° (within a lattice cell)
         let manway = 3u16;
@@ -1694,7 +1703,10 @@ mod named_part_tests {
             .to_string();
         assert!(err.contains("already named by part 'a'"), "{err}");
         // a whole turn is the whole circle: 2πR
-        let o = circle().with_named_arc("shell", 0.0, 360.0).outline(0.05).unwrap();
+        let o = circle()
+            .with_named_arc("shell", 0.0, 360.0)
+            .outline(0.05)
+            .unwrap();
         assert!(rel(o.part_lengths()[3], 2.0 * PI) < 1e-12);
         // side ranges are for polygons
         assert!(circle().with_named_sides("a", 0, 1).check_shape().is_err());
@@ -1761,7 +1773,10 @@ mod named_part_tests {
         let o = SectionTank2::new(SectionShape::Circle { radius: 1.0 }, 1.0)
             .outline(0.05)
             .unwrap();
-        assert_eq!(o.exact_length, vec![Some(0.5 * PI), Some(PI), Some(0.5 * PI)]);
+        assert_eq!(
+            o.exact_length,
+            vec![Some(0.5 * PI), Some(PI), Some(0.5 * PI)]
+        );
         assert_eq!(o.vertices.len() % 8, 0);
     }
 }

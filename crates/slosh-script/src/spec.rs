@@ -332,9 +332,11 @@ fn read_solids_3d(r: &mut MapReader) -> Result<Vec<InternalSolid>, String> {
                 let hi = vector(&mut r, "max", 3)?;
                 InternalSolid::block(&name, [lo[0], lo[1], lo[2]], [hi[0], hi[1], hi[2]])
             }
-            other => return Err(at(format!(
+            other => {
+                return Err(at(format!(
                 "unknown shape \"{other}\" for a 3D tank (use \"column\", \"ring\" or \"block\")"
-            ))),
+            )))
+            }
         };
         r.finish().map_err(at)?;
         solids.push(solid);
@@ -782,7 +784,9 @@ impl TankSpec {
             } => (
                 parts
                     .iter()
-                    .map(|(n, [first, last])| (n.clone(), format!("outline sides {first} to {last}")))
+                    .map(|(n, [first, last])| {
+                        (n.clone(), format!("outline sides {first} to {last}"))
+                    })
                     .chain(arc_parts.iter().map(|(n, [first, last])| {
                         (n.clone(), format!("the arc from {first}° to {last}°"))
                     }))
@@ -1876,7 +1880,10 @@ mod tests {
             ("shape", Dynamic::from("circle")),
             ("radius", Dynamic::from(1.0)),
             ("depth", Dynamic::from(1.5)),
-            ("parts", Dynamic::from(map(vec![("manway", pair(80.0, 100.0))]))),
+            (
+                "parts",
+                Dynamic::from(map(vec![("manway", pair(80.0, 100.0))])),
+            ),
         ]))
         .unwrap();
         let tank = circle.section_tank().unwrap().unwrap();
@@ -1884,7 +1891,11 @@ mod tests {
             tank.named_parts,
             vec![("manway".to_string(), PartRange::Arc([80.0, 100.0]))]
         );
-        let names: Vec<String> = circle.part_descriptions().into_iter().map(|p| p.0).collect();
+        let names: Vec<String> = circle
+            .part_descriptions()
+            .into_iter()
+            .map(|p| p.0)
+            .collect();
         assert_eq!(names, ["bottom", "wall", "roof", "manway"]);
         // overlapping arcs are refused at the tank(…) call
         let err = TankSpec::from_map_checked(&map(vec![
@@ -1925,6 +1936,9 @@ mod tests {
             Dynamic::from(map(vec![("lid", Dynamic::from("ceiling"))])),
         )]))
         .unwrap_err();
-        assert!(err.contains("ceiling") && err.contains("roof_left"), "{err}");
+        assert!(
+            err.contains("ceiling") && err.contains("roof_left"),
+            "{err}"
+        );
     }
 }

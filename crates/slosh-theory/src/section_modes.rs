@@ -336,7 +336,10 @@ mod tests {
         for (w, h) in [(1.0, 0.5), (2.0, 0.4), (1.0, 1.0)] {
             let exact = PI / w * (PI * h / w).tanh();
             let ritz = first_antisymmetric_ritz(&SymmetricSection::rectangle(w, h), 20);
-            assert!((ritz / exact - 1.0).abs() < 1e-6, "{w}×{h}: {ritz} vs {exact}");
+            assert!(
+                (ritz / exact - 1.0).abs() < 1e-6,
+                "{w}×{h}: {ritz} vs {exact}"
+            );
         }
     }
 

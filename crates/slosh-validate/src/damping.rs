@@ -300,7 +300,10 @@ pub fn low_dissipation_variants(ctx: &Context) -> GroupResult {
     let variants: [(&str, SphParams); 5] = [
         ("modern, α = 0.01", with_av(0.01, 0.0)),
         ("modern, α = 0 (δ-SPH alone)", with_av(0.0, 0.0)),
-        ("modern, α = 0, β = 3 (Riemann-limiter form)", with_av(0.0, 3.0)),
+        (
+            "modern, α = 0, β = 3 (Riemann-limiter form)",
+            with_av(0.0, 3.0),
+        ),
         (
             "modern, Riemann pair with δ-SPH",
             riemann(SphParams::modern().density_diffusion),

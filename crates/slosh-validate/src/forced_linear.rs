@@ -9,14 +9,11 @@
 //! artificial viscosity) and with a second gauge further from the wall, so that what makes a
 //! crest overshoot is measured, not guessed.
 
-use super::run::{
-    interpolate, zero_crossings, Context, Runner, Scheme, SineExcitation,
-};
+use super::run::{interpolate, zero_crossings, Context, Runner, Scheme, SineExcitation};
 use super::sloshing::{running_mean, MODES};
 use super::{failed_run, info_row, open_if_failed, Check, GroupResult, Verdict};
 use slosh_core::{
-    BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, KernelKind, Simulation,
-    SphParams,
+    BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, KernelKind, Simulation, SphParams,
 };
 use slosh_geometry::RectTank2;
 use slosh_io::{PlotSpec, Series};
@@ -199,7 +196,9 @@ fn forced_run(
         ..*case
     };
     let case = &scaled;
-    let setup = RectTank2::new(WIDTH, HEIGHT, DEPTH).with_roof(false).build(DX)?;
+    let setup = RectTank2::new(WIDTH, HEIGHT, DEPTH)
+        .with_roof(false)
+        .build(DX)?;
     let sim = Simulation::new(setup, params)?;
     let excitation = SineExcitation {
         settle,
@@ -232,8 +231,9 @@ fn forced_run(
     let (tt, eta_theory) = case.theory(case.duration, gauge, |s, x| case.tank.elevation(s, x));
     let windows = half_cycle_windows(&tt, &eta_theory);
     let eta = extreme_ratios(&windows, &t, &h.eta_left);
-    let (_, inner_theory) =
-        case.theory(case.duration, inner_x - lo.x, |s, x| case.tank.elevation(s, x));
+    let (_, inner_theory) = case.theory(case.duration, inner_x - lo.x, |s, x| {
+        case.tank.elevation(s, x)
+    });
     let eta_inner = extreme_ratios(&half_cycle_windows(&tt, &inner_theory), &ts_inner, &inner);
     let (_, shear_theory) = case.theory(case.duration, 0.0, |s, _| case.tank.base_shear(s));
     let shear_theory = running_mean(&tt, &shear_theory, SHEAR_MEAN_HALF);
@@ -256,10 +256,13 @@ fn forced_run(
 
 /// A row judging the worst of the ratios against 1 ± [`CREST_TOL`].
 fn ratios_check(name: &str, ratios: &[f64], reason: &str) -> Check {
-    let worst = ratios
-        .iter()
-        .copied()
-        .fold(1.0f64, |m, r| if (r - 1.0).abs() > (m - 1.0).abs() { r } else { m });
+    let worst = ratios.iter().copied().fold(1.0f64, |m, r| {
+        if (r - 1.0).abs() > (m - 1.0).abs() {
+            r
+        } else {
+            m
+        }
+    });
     let pass = ratios.len() == CRESTS && ratios.iter().all(|r| (r - 1.0).abs() <= CREST_TOL);
     Check {
         group: GROUP.into(),
@@ -292,11 +295,19 @@ pub fn forced_from_rest(ctx: &Context) -> GroupResult {
     };
     let mut runs: Vec<(String, SphParams, f64, f64, bool)> = vec![
         ("modern scheme".into(), modern.clone(), SETTLE, 1.0, true),
-        ("paper scheme".into(), Scheme::paper().params, SETTLE, 1.0, true),
+        (
+            "paper scheme".into(),
+            Scheme::paper().params,
+            SETTLE,
+            1.0,
+            true,
+        ),
     ];
     if !ctx.quick {
         let variants: [(&str, fn(&mut SphParams)); 9] = [
-            ("modern, no wall-pressure floor", |p| p.wall_separation = false),
+            ("modern, no wall-pressure floor", |p| {
+                p.wall_separation = false
+            }),
             ("modern, cubic spline h = 1.3 dx", |p| {
                 p.kernel = KernelKind::CubicSpline;
                 p.smoothing_ratio = 1.3;
@@ -305,16 +316,21 @@ pub fn forced_from_rest(ctx: &Context) -> GroupResult {
                 p.density = DensityMethod::Summation;
                 p.density_diffusion = DensityDiffusion::None;
             }),
-            ("modern, dynamic walls", |p| p.boundary = BoundaryMethod::Dynamic),
+            ("modern, dynamic walls", |p| {
+                p.boundary = BoundaryMethod::Dynamic
+            }),
             ("modern, leap-frog", |p| p.integrator = Integrator::LeapFrog),
             ("modern, no artificial viscosity", |p| p.av_alpha = 0.0),
             ("modern, α = 0.01 with the paper's c (Eq. 17)", |p| {
                 p.av_alpha = 0.01;
                 p.av_sound_speed = slosh_core::ArtificialSoundSpeed::Eq17;
             }),
-            ("modern, Riemann pair with δ-SPH (Zhang, Hu & Adams 2017)", |p| {
-                p.pair_scheme = slosh_core::PairScheme::Riemann;
-            }),
+            (
+                "modern, Riemann pair with δ-SPH (Zhang, Hu & Adams 2017)",
+                |p| {
+                    p.pair_scheme = slosh_core::PairScheme::Riemann;
+                },
+            ),
             ("modern, Riemann pair without δ-SPH", |p| {
                 p.pair_scheme = slosh_core::PairScheme::Riemann;
                 p.density_diffusion = DensityDiffusion::None;
@@ -323,7 +339,13 @@ pub fn forced_from_rest(ctx: &Context) -> GroupResult {
         for (label, f) in variants {
             runs.push((label.into(), variant(f), SETTLE, 1.0, false));
         }
-        runs.push(("modern, settled 2 s".into(), modern.clone(), 2.0, 1.0, false));
+        runs.push((
+            "modern, settled 2 s".into(),
+            modern.clone(),
+            2.0,
+            1.0,
+            false,
+        ));
         runs.push((
             "modern, half the amplitude (crest 0.06 H)".into(),
             modern.clone(),

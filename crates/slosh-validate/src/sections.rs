@@ -199,11 +199,9 @@ pub fn free_sloshing_overhang(ctx: &Context) -> GroupResult {
                 ),
             ));
         }
-        Err(e) => g.checks.push(failed_run(
-            group,
-            "circle filled to 3/4",
-            &format!("{e:#}"),
-        )),
+        Err(e) => g
+            .checks
+            .push(failed_run(group, "circle filled to 3/4", &format!("{e:#}"))),
     }
     g.notes.push(
         "Circle filled to 3/4 of its diameter (the upper arc overhangs the liquid), modern \
