@@ -511,16 +511,6 @@ fn run_built<const D: usize>(
             }
         }
     }
-    // 2D: the fluid at the largest wave, whether or not the roof was struck
-    if opts.plots {
-        if let Some(frame) = &result.largest_wave_frame {
-            if let Err(e) = crate::roof_files::write_frame_peak(&result.roof, out, frame, settle) {
-                summary
-                    .output_errors
-                    .push(format!("largest-wave frame plot: {e:#}"));
-            }
-        }
-    }
     if failure.is_none() {
         let max_eta = summary.max_eta_left.max(summary.max_eta_right);
         // The tank as simulated (fitted to the lattice): its size and freeboard.
@@ -560,6 +550,16 @@ fn run_built<const D: usize>(
     if opts.plots {
         if let Err(e) = write_plots(out, &result.columns, &result.series, D, &summary) {
             summary.output_errors.push(format!("plots: {e:#}"));
+        }
+    }
+    // 2D: the fluid at the largest wave, whether or not the roof was struck
+    if opts.plots {
+        if let Some(frame) = &result.largest_wave_frame {
+            if let Err(e) = crate::roof_files::write_frame_peak(&result.roof, out, frame, settle) {
+                summary
+                    .output_errors
+                    .push(format!("largest-wave frame plot: {e:#}"));
+            }
         }
     }
     slosh_io::write_ron(out.join("summary.ron"), &summary)?;
