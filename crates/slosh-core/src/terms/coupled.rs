@@ -122,8 +122,8 @@ pub(crate) trait MomentumContinuityPair<const D: usize>: Sync + Sized {
     ) -> (Vector<D>, f64, f64);
 
     /// Fluid particle `o` and wall particle `w` at x_iw = x_i − x_w, squared distance r2
-    /// (m²): the acceleration of i, ∇_i W_iw, its factor (dW/dr)/r, 1/(r² + 0.01 h²),
-    /// 1/(ρ_i ρ_w) and, with `continuity`, dρ_i/dt; the wall in the artificial viscosity
+    /// (m²): the acceleration of i, the pair's factors and, with `continuity`, dρ_i/dt; the
+    /// wall in the artificial viscosity
     /// (`with_av`) and the fluid's viscous stress against it (`with_viscous`) as for
     /// dynamic walls.
     #[allow(clippy::too_many_arguments)]
@@ -144,14 +144,8 @@ pub(crate) trait MomentumContinuityPair<const D: usize>: Sync + Sized {
 pub(crate) struct WallPairFlux<const D: usize> {
     /// Acceleration of i (m/s²).
     pub(crate) acc: Vector<D>,
-    /// ∇_i W_iw (1/m³ in 2D per metre of depth, 1/m⁴ in 3D).
-    pub(crate) grad_w: Vector<D>,
-    /// (dW/dr)/r.
-    pub(crate) f: f64,
-    /// 1/(r² + 0.01 h²) of Eq. 11.
-    pub(crate) inv_s: f64,
-    /// 1/(ρ_i ρ_w).
-    pub(crate) inv_rho_iw: f64,
+    /// The pair's factors.
+    pub(crate) factors: WallPairFactors<D>,
     /// dρ_i/dt of the pair (kg/(m³·s)).
     pub(crate) drho: f64,
 }
@@ -201,21 +195,13 @@ impl<const D: usize> MomentumContinuityPair<D> for Eq8Pair {
         with_viscous: bool,
         continuity: bool,
     ) -> WallPairFlux<D> {
-        let (acc, grad_w, f, inv_s, inv_rho_iw) =
-            base.wall_momentum(o, w, xiw, r2, with_av, with_viscous);
+        let (acc, factors) = base.wall_momentum(o, w, xiw, r2, with_av, with_viscous);
         let drho = if continuity {
-            base.c.mass * o.v.dot(&grad_w)
+            base.c.mass * o.v.dot(&factors.grad_w)
         } else {
             0.0
         };
-        WallPairFlux {
-            acc,
-            grad_w,
-            f,
-            inv_s,
-            inv_rho_iw,
-            drho,
-        }
+        WallPairFlux { acc, factors, drho }
     }
 }
 
@@ -375,10 +361,14 @@ impl<
         let b = &self.base;
         let WallPairFlux {
             mut acc,
-            grad_w,
-            f,
-            inv_s,
-            inv_rho_iw,
+            factors:
+                WallPairFactors {
+                    grad_w,
+                    f,
+                    inv_s,
+                    inv_rho_iw,
+                    ..
+                },
             drho,
         } = self.pair.wall(
             b,

@@ -225,11 +225,31 @@ impl<'a, const D: usize> ForceSweep<'a, D> {
         (o.strain + self.strain[j]) * grad_w * (c.mass * c.viscosity * inv_rho_ij)
     }
 
+    /// The factors of the pair of fluid particle `o` and wall particle `w` at x_iw = x_i − x_w
+    /// and squared distance r2 (m²) that every wall term builds on.
+    #[inline(always)]
+    pub(crate) fn wall_pair_factors(
+        &self,
+        o: &ForceOwner<D>,
+        w: usize,
+        xiw: Vector<D>,
+        r2: f64,
+    ) -> WallPairFactors<D> {
+        let (f, inv_s, inv_rho_mean) = self.pair_factors(r2, o.rho + self.wall_rho[w]);
+        WallPairFactors {
+            grad_w: xiw * f,
+            f,
+            inv_s,
+            inv_rho_mean,
+            inv_rho_iw: o.inv_rho * self.wall_inv_rho[w],
+        }
+    }
+
     /// The acceleration of i from wall particle w within the support, at x_iw = x_i − x_w and
     /// squared distance r2 (m²): Eq. 8 with σ_w = −p_w I and the wall at rest in the
     /// artificial viscosity (`with_av`), and the fluid's own viscous stress against the wall
-    /// (`with_viscous`). Returns the acceleration, ∇_i W_iw, its factor (dW/dr)/r, the
-    /// 1/(r² + 0.01 h²) of Eq. 11 and 1/(ρ_i ρ_w), for the terms that build on it.
+    /// (`with_viscous`). Returns the acceleration and the pair's factors, for the terms that
+    /// build on them.
     #[inline(always)]
     pub(crate) fn wall_momentum(
         &self,
@@ -239,22 +259,34 @@ impl<'a, const D: usize> ForceSweep<'a, D> {
         r2: f64,
         with_av: bool,
         with_viscous: bool,
-    ) -> (Vector<D>, Vector<D>, f64, f64, f64) {
+    ) -> (Vector<D>, WallPairFactors<D>) {
         let c = &self.c;
         let m = c.mass;
-        let (grad_factor, inv_s, inv_rho_mean) = self.pair_factors(r2, o.rho + self.wall_rho[w]);
-        let grad_w = xiw * grad_factor;
-        let inv_rho_iw = o.inv_rho * self.wall_inv_rho[w];
-        let mut scalar = -(o.p + self.wall_p[w]) * inv_rho_iw;
+        let k = self.wall_pair_factors(o, w, xiw, r2);
+        let mut scalar = -(o.p + self.wall_p[w]) * k.inv_rho_iw;
         if with_av {
-            scalar -= self.artificial_viscosity(o.v, xiw, inv_s, inv_rho_mean);
+            scalar -= self.artificial_viscosity(o.v, xiw, k.inv_s, k.inv_rho_mean);
         }
-        let mut term = grad_w * (m * scalar);
+        let mut term = k.grad_w * (m * scalar);
         if with_viscous {
-            term += o.strain * grad_w * (m * c.viscosity * inv_rho_iw);
+            term += o.strain * k.grad_w * (m * c.viscosity * k.inv_rho_iw);
         }
-        (term, grad_w, grad_factor, inv_s, inv_rho_iw)
+        (term, k)
     }
+}
+
+/// The factors of a fluid–wall pair (i, w) that the wall terms share.
+pub(crate) struct WallPairFactors<const D: usize> {
+    /// ∇_i W_iw (1/m³ in 2D per metre of depth, 1/m⁴ in 3D).
+    pub(crate) grad_w: Vector<D>,
+    /// (dW/dr)/r.
+    pub(crate) f: f64,
+    /// 1/(r² + 0.01 h²) of Eq. 11 (1/m²).
+    pub(crate) inv_s: f64,
+    /// 1/ρ̄ of Eq. 10 (m³/kg).
+    pub(crate) inv_rho_mean: f64,
+    /// 1/(ρ_i ρ_w) (m⁶/kg²).
+    pub(crate) inv_rho_iw: f64,
 }
 
 /// The momentum equation alone (Eq. 8–16) as a pass over pairs: the paper's force pass.

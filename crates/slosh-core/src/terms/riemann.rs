@@ -146,10 +146,8 @@ impl<const D: usize> MomentumContinuityPair<D> for RiemannPair {
         // take part in the artificial viscosity and the fluid's viscous stress.
         debug_assert!(!with_av && !with_viscous);
         let m = base.c.mass;
-        let (f, inv_s, inv_rho_mean) = base.pair_factors(r2, o.rho + base.wall_rho[w]);
-        let grad_w = xiw * f;
+        let factors = base.wall_pair_factors(o, w, xiw, r2);
         let inv_rho_w = base.wall_inv_rho[w];
-        let inv_rho_iw = o.inv_rho * inv_rho_w;
         let p_w = base.wall_p[w];
         // Right state: the wall's pressure and its velocity, zero in the tank frame.
         let (two_p_star, dissipative) = self.interface(
@@ -157,23 +155,16 @@ impl<const D: usize> MomentumContinuityPair<D> for RiemannPair {
             r2.sqrt().max(1e-150),
             o.p - p_w,
             o.p + p_w,
-            inv_rho_mean,
-            f,
+            factors.inv_rho_mean,
+            factors.f,
         );
-        let acc = grad_w * (-m * two_p_star * inv_rho_iw);
+        let acc = factors.grad_w * (-m * two_p_star * factors.inv_rho_iw);
         let drho = if continuity {
-            o.rho * m * inv_rho_w * (o.v.dot(&grad_w) + dissipative)
+            o.rho * m * inv_rho_w * (o.v.dot(&factors.grad_w) + dissipative)
         } else {
             0.0
         };
-        WallPairFlux {
-            acc,
-            grad_w,
-            f,
-            inv_s,
-            inv_rho_iw,
-            drho,
-        }
+        WallPairFlux { acc, factors, drho }
     }
 }
 
