@@ -90,12 +90,11 @@ impl<'id, const D: usize> StrainSweep<'_, 'id, D> {
         let mut batch_f = [0.0f64; BATCH];
         self.kernel
             .values_and_gradient_factors(batch_r2, &mut batch_w, &mut batch_f);
-        for (&j, &f) in batch_j.iter().zip(&batch_f) {
-            let j = j as usize;
+        for ((j, slot), &f) in block.check_list(batch_j).iter().zip(&batch_f) {
             let grad_w = (xi - self.pos[j]) * f;
             let outer = velocity_gradient_pair(self.vel[j] - vi, grad_w);
             *grad_v += outer * (m * self.inv_rho[j]);
-            self.grad_acc.add(&block.slot(j), outer * volume_i);
+            self.grad_acc.add(&slot, outer * volume_i);
         }
     }
 }

@@ -231,8 +231,9 @@ impl<'id, const D: usize> DensitySweep<'_, 'id, D> {
         self.kernel
             .values_and_gradient_factors(batch_r2, &mut batch_w, &mut batch_f);
         let (mut rho_sum, mut kernel_sum, mut grad_v) = (sums.rho, sums.kernel_sum, sums.grad_v);
-        for ((&j, &w), &grad_factor) in batch_j.iter().zip(&batch_w).zip(&batch_f) {
-            let j = j as usize;
+        for (((j, slot), &w), &grad_factor) in
+            block.check_list(batch_j).iter().zip(&batch_w).zip(&batch_f)
+        {
             let xij = xi - self.pos[j];
             let volume_j = m * self.inv_rho[j];
             let mw = m * w;
@@ -242,7 +243,6 @@ impl<'id, const D: usize> DensitySweep<'_, 'id, D> {
             // tensor.
             let outer = velocity_gradient_pair(self.vel[j] - vi, xij * grad_factor);
             grad_v += outer * volume_j;
-            let slot = block.slot(j);
             self.rho_acc.add(&slot, mw);
             self.ksum_acc.add(&slot, volume_i * w);
             self.grad_acc.add(&slot, outer * volume_i);

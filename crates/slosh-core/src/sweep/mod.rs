@@ -99,6 +99,73 @@ impl<'id> Block<'id> {
     }
 }
 
+/// Indices of fluid particles paired with a running [`Block`]'s particle, all checked at once
+/// to be slots the block may write ([`Block::check_list`]): each gives its slot without a
+/// check of its own.
+#[derive(Clone, Copy)]
+pub(crate) struct CheckedList<'b, 'id> {
+    indices: &'b [u32],
+    _block: std::marker::PhantomData<&'b Block<'id>>,
+}
+
+impl<'id> Block<'id> {
+    /// `indices` as slots of this block or the next: one pass of unsigned maxima over the
+    /// list (vectorised) and one branch, where [`Self::slot`] takes a branch per index;
+    /// panics if any index lies elsewhere.
+    #[inline(always)]
+    pub(crate) fn check_list<'b>(&'b self, indices: &'b [u32]) -> CheckedList<'b, 'id> {
+        // j − begin (mod 2³²) is below `writable` exactly for begin ≤ j < begin + writable
+        // when begin + writable ≤ 2³² (an index below begin wraps to ≥ 2³² − begin).
+        let begin = self.begin as u32;
+        let farthest = indices
+            .iter()
+            .fold(0u32, |far, &j| far.max(j.wrapping_sub(begin)));
+        let fits_u32 = (self.begin + self.writable) as u64 <= 1 << 32;
+        if !fits_u32 || (!indices.is_empty() && farthest as usize >= self.writable) {
+            let j = indices
+                .iter()
+                .find(|&&j| (j as usize).wrapping_sub(self.begin) >= self.writable)
+                .map_or(self.begin + self.writable, |&j| j as usize);
+            slot_outside_block(j, self);
+        }
+        CheckedList {
+            indices,
+            _block: std::marker::PhantomData,
+        }
+    }
+}
+
+impl<'b, 'id> CheckedList<'b, 'id> {
+    /// The indices.
+    #[inline(always)]
+    pub(crate) fn indices(&self) -> &'b [u32] {
+        self.indices
+    }
+
+    /// Each index with its slot.
+    #[inline(always)]
+    pub(crate) fn iter(&self) -> impl Iterator<Item = (usize, Slot<'b, 'id>)> + 'b {
+        self.indices.iter().map(|&j| {
+            (
+                j as usize,
+                Slot {
+                    index: j as usize,
+                    _block: std::marker::PhantomData,
+                },
+            )
+        })
+    }
+
+    /// The list in runs of at most `n` indices, each still checked.
+    #[inline(always)]
+    pub(crate) fn chunks(&self, n: usize) -> impl Iterator<Item = CheckedList<'b, 'id>> + 'b {
+        self.indices.chunks(n).map(|indices| CheckedList {
+            indices,
+            _block: std::marker::PhantomData,
+        })
+    }
+}
+
 /// An array that the running blocks of a [`colour_sweep`] add to, each at the slots of its
 /// [`Block`] and the next block, which no other running block touches. Made by
 /// [`Sweep::slots`], it takes the slots of its own sweep only (the brand `'id`), which lie
@@ -614,6 +681,70 @@ mod sweep_tests {
         let mut short = [0.0f64; 3];
         Sweep::scope(4, |sweep| {
             let _ = sweep.slots(&mut short);
+        });
+    }
+
+    /// One thread, so that a block's panic reaches the test instead of leaving the other
+    /// threads waiting for the block.
+    fn one_thread(f: impl FnOnce() + Send) {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        pool.install(f);
+    }
+
+    /// A list of indices within a block and the next is taken as it is, each index with its
+    /// own slot.
+    #[test]
+    fn a_list_within_the_block_and_the_next_gives_its_slots() {
+        let mut hits = [0u32; 30];
+        one_thread(|| {
+            Sweep::scope(30, |sweep| {
+                let slots = sweep.slots(&mut hits);
+                colour_sweep(sweep, &[0, 10, 20, 30], |blk| {
+                    if blk.index == 1 {
+                        for (j, slot) in blk.check_list(&[10, 29, 15, 15]).iter() {
+                            assert_eq!(slot.index, j);
+                            slots.add(&slot, 1);
+                        }
+                    }
+                });
+            })
+        });
+        assert_eq!(
+            (hits[10], hits[15], hits[29], hits.iter().sum::<u32>()),
+            (1, 2, 1, 4)
+        );
+    }
+
+    /// An index before the block (it would wrap below zero) or past the next block is
+    /// refused, and named.
+    #[test]
+    #[should_panic(expected = "slot 9 outside block 1 (10..30)")]
+    fn a_list_reaching_before_the_block_is_refused() {
+        one_thread(|| {
+            Sweep::scope(30, |sweep| {
+                colour_sweep(sweep, &[0, 10, 20, 30], |blk| {
+                    if blk.index == 1 {
+                        let _ = blk.check_list(&[12, 9, 30]);
+                    }
+                });
+            })
+        });
+    }
+
+    #[test]
+    #[should_panic(expected = "slot 30 outside block 0 (0..20)")]
+    fn a_list_reaching_past_the_next_block_is_refused() {
+        one_thread(|| {
+            Sweep::scope(40, |sweep| {
+                colour_sweep(sweep, &[0, 10, 20, 30, 40], |blk| {
+                    if blk.index == 0 {
+                        let _ = blk.check_list(&[0, 19, 30]);
+                    }
+                });
+            })
         });
     }
 

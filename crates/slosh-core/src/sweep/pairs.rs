@@ -4,7 +4,7 @@
 //! what a fluid pair and a wall pair add; the drivers decide which pairs it sees and in
 //! which order.
 
-use super::{colour_sweep, split_walls, Block, Sweep};
+use super::{colour_sweep, split_walls, Block, Slot, Sweep};
 use crate::neighbours::{CellGrid, NeighbourSearch};
 use crate::sim::{NeighbourLists, Vector, LIST_OVERFLOW, PAR_CHUNK, WALL_NEIGHBOUR};
 use crate::terms::{ForceSweep, PairFactorBatch};
@@ -27,9 +27,10 @@ pub(crate) trait PairInteraction<'a, 'id, const D: usize>: Sync {
     /// The particle's own share, where a full sweep meets it among its candidates.
     fn itself(&self, owner: &Self::Owner, sums: &mut Self::Sums);
     /// A fluid pair (i, j) within the support, at x_ij = x_i − x_j, distance `r` (m), with
-    /// the pair factors of [`ForceSweep::pair_factors`]: i's share to `sums`; with `HALF`
-    /// also j's share, to j's slots in `block`.
-    fn fluid_pair<const HALF: bool>(
+    /// the pair factors of [`ForceSweep::pair_factors`]: i's share to `sums`; with j's slot
+    /// (`j_slot`, the half sweep) also j's share, to that slot.
+    #[allow(clippy::too_many_arguments)]
+    fn fluid_pair(
         &self,
         owner: &Self::Owner,
         sums: &mut Self::Sums,
@@ -37,7 +38,7 @@ pub(crate) trait PairInteraction<'a, 'id, const D: usize>: Sync {
         xij: Vector<D>,
         r: f64,
         factors: (f64, f64, f64),
-        block: &Block<'id>,
+        j_slot: Option<Slot<'_, 'id>>,
     );
     /// A pair of fluid particle i and wall particle `w` within the support, at
     /// x_iw = x_i − x_w, squared distance `r2` (m²).
@@ -67,7 +68,8 @@ fn unbatched_pair<'a, 'id, const D: usize, P: PairInteraction<'a, 'id, D>, const
 ) {
     let m = p.momentum();
     let factors = m.pair_factors(r2, rho_i + m.rho[j]);
-    p.fluid_pair::<HALF>(owner, sums, j, xij, r2.sqrt().max(1e-150), factors, block);
+    let j_slot = HALF.then(|| block.slot(j));
+    p.fluid_pair(owner, sums, j, xij, r2.sqrt().max(1e-150), factors, j_slot);
 }
 
 /// Every pair once over the cell-sorted fluid cut into `blocks` (see [`colour_sweep`]):
@@ -100,8 +102,9 @@ pub(crate) fn half_sweep<'a, 'id, const D: usize, P: PairInteraction<'a, 'id, D>
             if let Some((fluid_list, wall_list)) = listed {
                 // The listed pairs are within the support (tested by the sweep that listed
                 // them, on the same positions).
-                m.for_each_listed_pair(xi, rho_i, fluid_list, &mut batch, |j, xij, r, f| {
-                    p.fluid_pair::<true>(&o, &mut sums, j, xij, r, f, block);
+                let fluid_list = block.check_list(fluid_list);
+                m.for_each_listed_pair(xi, rho_i, fluid_list, &mut batch, |j, slot, xij, r, f| {
+                    p.fluid_pair(&o, &mut sums, j, xij, r, f, Some(slot));
                 });
                 for &entry in wall_list {
                     let w = (entry & !WALL_NEIGHBOUR) as usize;

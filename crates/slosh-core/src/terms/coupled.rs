@@ -1,7 +1,7 @@
 //! The momentum, continuity, density-diffusion and shifting terms of one pair, evaluated together.
 
 use crate::sim::*;
-use crate::sweep::{Block, PairInteraction, Sweep, SweepSlots};
+use crate::sweep::{Block, PairInteraction, Slot, Sweep, SweepSlots};
 use crate::terms::*;
 
 /// The density rate of the coupled pass, chosen once per run: none (summation density), or
@@ -569,7 +569,7 @@ impl<
     }
 
     #[inline(always)]
-    fn fluid_pair<const HALF: bool>(
+    fn fluid_pair(
         &self,
         o: &ModernOwner<D>,
         sums: &mut OwnerSums<D>,
@@ -577,12 +577,11 @@ impl<
         xij: Vector<D>,
         r: f64,
         factors: (f64, f64, f64),
-        block: &Block<'id>,
+        j_slot: Option<Slot<'_, 'id>>,
     ) {
         let pair = self.terms.fluid_pair(o, j, xij, r, factors);
         sums.add_fluid::<SHIFT>(&pair);
-        if HALF {
-            let slot = block.slot(j);
+        if let Some(slot) = j_slot {
             self.acceleration.sub(&slot, pair.acc);
             self.density_rate.add(&slot, pair.drho_j);
             if let (true, Some((grad_c, ksum))) = (SHIFT, &self.shifting) {

@@ -1,7 +1,7 @@
 //! The momentum equation of a pair (Eq. 8–16).
 
 use crate::sim::*;
-use crate::sweep::{Block, PairInteraction, SweepSlots};
+use crate::sweep::{Block, CheckedList, PairInteraction, Slot, SweepSlots};
 
 /// What the sorted force sweep reads, gathered so that its pair terms can be functions that
 /// are always inlined (closures called from two places are not, and a call per pair costs
@@ -146,24 +146,25 @@ impl<'a, const D: usize> ForceSweep<'a, D> {
     /// `xi`, density `rho_i`) in `fluid_list`, with the pair factors of
     /// [`Self::pair_factors`] computed a batch at a time.
     #[inline(always)]
-    pub(crate) fn for_each_listed_pair<F: FnMut(usize, Vector<D>, f64, (f64, f64, f64))>(
+    pub(crate) fn for_each_listed_pair<'b, 'id, F>(
         &self,
         xi: Vector<D>,
         rho_i: f64,
-        fluid_list: &[u32],
+        fluid_list: CheckedList<'b, 'id>,
         b: &mut PairFactorBatch,
         mut visit: F,
-    ) {
+    ) where
+        F: FnMut(usize, Slot<'b, 'id>, Vector<D>, f64, (f64, f64, f64)),
+    {
         for chunk in fluid_list.chunks(BATCH) {
-            for (k, &j) in chunk.iter().enumerate() {
+            for (k, &j) in chunk.indices().iter().enumerate() {
                 let j = j as usize;
                 b.r2[k] = (xi - self.pos[j]).norm_squared();
                 b.rho_pair[k] = rho_i + self.rho[j];
             }
-            self.pair_factors_batch(chunk.len(), b);
-            for (k, &j) in chunk.iter().enumerate() {
-                let j = j as usize;
-                visit(j, xi - self.pos[j], b.r[k], b.get(k));
+            self.pair_factors_batch(chunk.indices().len(), b);
+            for (k, (j, slot)) in chunk.iter().enumerate() {
+                visit(j, slot, xi - self.pos[j], b.r[k], b.get(k));
             }
         }
     }
@@ -341,7 +342,7 @@ impl<'a, 'id, const D: usize> PairInteraction<'a, 'id, D> for Momentum<'a, 'id, 
     fn itself(&self, _: &ForceOwner<D>, _: &mut Vector<D>) {}
 
     #[inline(always)]
-    fn fluid_pair<const HALF: bool>(
+    fn fluid_pair(
         &self,
         o: &ForceOwner<D>,
         acc: &mut Vector<D>,
@@ -349,13 +350,13 @@ impl<'a, 'id, const D: usize> PairInteraction<'a, 'id, D> for Momentum<'a, 'id, 
         xij: Vector<D>,
         _r: f64,
         factors: (f64, f64, f64),
-        block: &Block<'id>,
+        j_slot: Option<Slot<'_, 'id>>,
     ) {
         // Antisymmetric: ∇_j W_ji = −∇_i W_ij, every other factor symmetric in i and j.
         let term = self.terms.fluid_term_with(o, j, xij, factors);
         *acc += term;
-        if HALF {
-            self.acceleration.sub(&block.slot(j), term);
+        if let Some(slot) = j_slot {
+            self.acceleration.sub(&slot, term);
         }
     }
 
