@@ -213,7 +213,7 @@ pub fn parse_every(text: &str) -> Result<Option<Duration>, String> {
         }
     };
     match number.trim().parse::<f64>() {
-        Ok(x) if x == 0.0 => Ok(None),
+        Ok(0.0) => Ok(None),
         Ok(x) if x.is_finite() && x > 0.0 => Ok(Some(Duration::from_secs_f64(x * scale))),
         _ => Err(format!(
             "{text}: expected a positive duration such as 600, 30s, 10m or 1h, or 0 for none"

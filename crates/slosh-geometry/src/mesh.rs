@@ -27,13 +27,7 @@ impl SurfaceMesh {
     /// (STL stores each triangle's corners separately); degenerate triangles (a repeated vertex
     /// after merging) are dropped. Does not check closedness: see [`SurfaceMesh::check_closed`].
     pub fn read(path: &Path) -> Result<SurfaceMesh, GeometryError> {
-        let name = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|e| GeometryError::MeshRead {
-            path: name.clone(),
-            message: e.to_string(),
-        })?;
-        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-        SurfaceMesh::parse(&bytes, ext, &name)
+        Ok(SurfaceMesh::read_grouped(path)?.0)
     }
 
     /// Parses the bytes of an OBJ or STL file, as [`SurfaceMesh::read`] does; `extension`
@@ -63,22 +57,15 @@ impl SurfaceMesh {
         name: &str,
     ) -> Result<(SurfaceMesh, Vec<Option<String>>), GeometryError> {
         let name = name.to_string();
-        let (mut mesh, groups) = match extension.to_ascii_lowercase().as_str() {
-            "obj" => parse_obj(bytes).map_err(|message| GeometryError::MeshRead {
-                path: name.clone(),
-                message,
-            })?,
-            "stl" => parse_stl(bytes).map_err(|message| GeometryError::MeshRead {
-                path: name.clone(),
-                message,
-            })?,
-            _ => {
-                return Err(GeometryError::MeshRead {
-                    path: name,
-                    message: "unknown file type: use a .obj or .stl file".into(),
-                })
-            }
+        let parsed = match extension.to_ascii_lowercase().as_str() {
+            "obj" => parse_obj(bytes),
+            "stl" => parse_stl(bytes),
+            _ => Err("unknown file type: use a .obj or .stl file".into()),
         };
+        let (mut mesh, groups) = parsed.map_err(|message| GeometryError::MeshRead {
+            path: name.clone(),
+            message,
+        })?;
         let kept = mesh.merge_vertices_keeping();
         if mesh.triangles.is_empty() {
             return Err(GeometryError::MeshRead {
@@ -93,19 +80,7 @@ impl SurfaceMesh {
     /// Writes the mesh as a Wavefront OBJ file (vertices in m, 1-based faces), with `comment`
     /// lines at the top.
     pub fn write_obj(&self, path: &Path, comment: &str) -> std::io::Result<()> {
-        let mut out = String::new();
-        for line in comment.lines() {
-            let _ = writeln!(out, "# {line}");
-        }
-        for v in &self.vertices {
-            let _ = writeln!(
-                out,
-                "v {} {} {}",
-                fmt_coord(v[0]),
-                fmt_coord(v[1]),
-                fmt_coord(v[2])
-            );
-        }
+        let mut out = self.obj_head(comment);
         for t in &self.triangles {
             let _ = writeln!(out, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
         }
@@ -121,6 +96,21 @@ impl SurfaceMesh {
         comment: &str,
         groups: &[Option<String>],
     ) -> std::io::Result<()> {
+        let mut out = self.obj_head(comment);
+        let mut current: Option<Option<&String>> = None;
+        for (k, t) in self.triangles.iter().enumerate() {
+            let g = groups.get(k).and_then(|g| g.as_ref());
+            if current != Some(g) {
+                let _ = writeln!(out, "g {}", g.map_or("default", |s| s.as_str()));
+                current = Some(g);
+            }
+            let _ = writeln!(out, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
+        std::fs::write(path, out)
+    }
+
+    /// The start of an OBJ file: `comment` as `#` lines, then the `v` lines of the vertices.
+    fn obj_head(&self, comment: &str) -> String {
         let mut out = String::new();
         for line in comment.lines() {
             let _ = writeln!(out, "# {line}");
@@ -134,16 +124,7 @@ impl SurfaceMesh {
                 fmt_coord(v[2])
             );
         }
-        let mut current: Option<Option<&String>> = None;
-        for (k, t) in self.triangles.iter().enumerate() {
-            let g = groups.get(k).and_then(|g| g.as_ref());
-            if current != Some(g) {
-                let _ = writeln!(out, "g {}", g.map_or("default", |s| s.as_str()));
-                current = Some(g);
-            }
-            let _ = writeln!(out, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
-        }
-        std::fs::write(path, out)
+        out
     }
 
     /// Merges vertices with bit-identical coordinates and drops triangles that become degenerate.
@@ -332,6 +313,14 @@ fn group_name<'a>(tokens: impl Iterator<Item = &'a str>) -> Option<String> {
     (!name.is_empty() && name != "default").then_some(name)
 }
 
+/// The coordinate `tok` of a text mesh file on line `line_no` (1-based): a finite number.
+fn coordinate(tok: &str, line_no: usize) -> Result<f64, String> {
+    tok.parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite())
+        .ok_or_else(|| format!("line {line_no}: bad coordinate '{}'", excerpt(tok)))
+}
+
 fn parse_obj(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<Option<String>>), String> {
     let text =
         std::str::from_utf8(bytes).map_err(|_| "the OBJ file is not UTF-8 text".to_string())?;
@@ -349,13 +338,7 @@ fn parse_obj(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<Option<String>>), String>
                     let tok = tokens.next().ok_or_else(|| {
                         format!("line {line_no}: a vertex needs three coordinates")
                     })?;
-                    *c = tok
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|x| x.is_finite())
-                        .ok_or_else(|| {
-                            format!("line {line_no}: bad coordinate '{}'", excerpt(tok))
-                        })?;
+                    *c = coordinate(tok, line_no)?;
                 }
                 mesh.vertices.push(v);
             }
@@ -435,14 +418,7 @@ fn parse_stl(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<Option<String>>), String>
             Some("vertex") => {
                 let mut v = [0.0; 3];
                 for c in &mut v {
-                    let tok = tokens.next().unwrap_or("");
-                    *c = tok
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|x| x.is_finite())
-                        .ok_or_else(|| {
-                            format!("line {}: bad coordinate '{}'", line_no + 1, excerpt(tok))
-                        })?;
+                    *c = coordinate(tokens.next().unwrap_or(""), line_no + 1)?;
                 }
                 corners.push(v);
             }

@@ -141,6 +141,18 @@ impl RectPiece {
     pub const NAMES: &'static str =
         "\"floor\", \"left_wall\", \"right_wall\", \"roof\", \"roof_left\", \"roof_right\"";
 
+    /// Built-in part of side `k` of a roofed rectangle's outline of `n` sides (as
+    /// [`RectPiece::covers`] numbers them): 0 (bottom) for the floor, 1 (wall) for the side
+    /// walls, 2 (roof) for the roof between.
+    fn builtin_part(k: usize, n: usize) -> u16 {
+        match k {
+            0 => 0,
+            1 => 1,
+            k if k == n - 1 => 1,
+            _ => 2,
+        }
+    }
+
     /// Whether the piece covers side `k` of a roofed rectangle's outline of `n` sides (side 0
     /// the floor, 1 the right wall, n−1 the left wall, the roof between) whose midpoint lies
     /// at `mid_x` (m) in a section `width` wide.
@@ -224,16 +236,6 @@ impl SectionOutline {
         let indices = (0..n).map(|k| [k, (k + 1) % n]).collect();
         Polyline::new(vertices, Some(indices))
     }
-}
-
-/// Exact length of each part of `outline` (m): the sum of `side_exact` (m, the exact length
-/// each side stands for) over the part's sides.
-fn exact_part_lengths(outline: &SectionOutline, side_exact: &[f64]) -> Vec<Option<f64>> {
-    let mut total = vec![0.0; outline.part_names.len()];
-    for (k, &p) in outline.side_part.iter().enumerate() {
-        total[p as usize] += side_exact[k];
-    }
-    total.into_iter().map(Some).collect()
 }
 
 /// Lowest and highest corner of the bounding box of `points` (m); infinite when empty.
@@ -491,14 +493,7 @@ impl SectionTank2 {
                 }
                 if self.named_parts.is_empty() {
                     let n = vertices.len();
-                    let side_part = (0..n)
-                        .map(|k| match k {
-                            0 => 0,
-                            1 => 1,
-                            k if k == n - 1 => 1,
-                            _ => 2,
-                        })
-                        .collect();
+                    let side_part = (0..n).map(|k| RectPiece::builtin_part(k, n)).collect();
                     return Ok(SectionOutline {
                         vertices,
                         side_part,
@@ -534,44 +529,28 @@ impl SectionTank2 {
                         }
                     })
                     .collect();
-                let mut outline = SectionOutline {
-                    side_part: (0..n)
-                        .map(|k| match k {
-                            0 => 0,
-                            1 => 1,
-                            k if k == n - 1 => 1,
-                            _ => 2,
-                        })
-                        .collect(),
+                let mid_x: Vec<f64> = (0..n)
+                    .map(|k| 0.5 * (vertices[k][0] + vertices[(k + 1) % n][0]))
+                    .collect();
+                let outline = SectionOutline {
+                    side_part: (0..n).map(|k| RectPiece::builtin_part(k, n)).collect(),
                     vertices,
                     part_names: builtin(),
                     exact_length: Vec::new(),
                 };
-                let mid_x =
-                    |k: usize| 0.5 * (outline.vertices[k][0] + outline.vertices[(k + 1) % n][0]);
-                let claims: Vec<Vec<bool>> = self
-                    .named_parts
-                    .iter()
-                    .map(|(_, range)| {
-                        (0..n)
-                            .map(|k| match range {
-                                PartRange::Pieces(pieces) => {
-                                    pieces.iter().any(|p| p.covers(k, n, mid_x(k), w))
-                                }
-                                _ => false,
-                            })
-                            .collect()
-                    })
-                    .collect();
+                let covers = |p: usize, k: usize| match &self.named_parts[p].1 {
+                    PartRange::Pieces(pieces) => {
+                        pieces.iter().any(|piece| piece.covers(k, n, mid_x[k], w))
+                    }
+                    _ => false,
+                };
                 let describe = |k: usize| match k {
                     0 => "the floor".to_string(),
                     1 => "the right wall".into(),
                     k if k == n - 1 => "the left wall".into(),
                     _ => "the roof".into(),
                 };
-                self.assign_named_parts(&mut outline, &claims, describe)?;
-                outline.exact_length = exact_part_lengths(&outline, &side_exact);
-                Ok(outline)
+                self.name_parts_with_lengths(outline, covers, describe, &side_exact)
             }
             SectionShape::Polygon(points) => {
                 let vertices = simple_ccw_polygon("tank outline", points)?;
@@ -683,22 +662,15 @@ impl SectionTank2 {
                         vec![Some(0.5 * PI * r), Some(PI * r), Some(0.5 * PI * r)];
                     return Ok(outline);
                 }
-                let claims: Vec<Vec<bool>> = arcs
-                    .iter()
-                    .map(|&(start, span)| {
-                        (0..n)
-                            .map(|k| {
-                                let (a, b) = arc_of(k);
-                                (0.5 * (a + b) - start).rem_euclid(2.0 * PI) < span
-                            })
-                            .collect()
-                    })
-                    .collect();
+                let covers = |p: usize, k: usize| {
+                    let (start, span) = arcs[p];
+                    let (a, b) = arc_of(k);
+                    (0.5 * (a + b) - start).rem_euclid(2.0 * PI) < span
+                };
                 let at_angle = |k: usize| {
                     let (a, b) = arc_of(k);
                     format!("the arc {:.3}° to {:.3}°", a.to_degrees(), b.to_degrees())
                 };
-                self.assign_named_parts(&mut outline, &claims, at_angle)?;
                 // each side stands for its arc, r·Δθ
                 let side_exact: Vec<f64> = (0..n)
                     .map(|k| {
@@ -706,10 +678,33 @@ impl SectionTank2 {
                         r * (b - a)
                     })
                     .collect();
-                outline.exact_length = exact_part_lengths(&outline, &side_exact);
-                Ok(outline)
+                self.name_parts_with_lengths(outline, covers, at_angle, &side_exact)
             }
         }
+    }
+
+    /// Puts the sides of `outline` each part named by the user covers in that part
+    /// ([`SectionTank2::assign_named_parts`]; `covers(p, k)`: named part p covers side k,
+    /// `describe(k)` names side k in errors), then sets each part's exact length to the sum of
+    /// `side_exact` (m, the exact length each side stands for) over its sides.
+    fn name_parts_with_lengths(
+        &self,
+        mut outline: SectionOutline,
+        covers: impl Fn(usize, usize) -> bool,
+        describe: impl Fn(usize) -> String,
+        side_exact: &[f64],
+    ) -> Result<SectionOutline, GeometryError> {
+        let n = outline.vertices.len();
+        let claims: Vec<Vec<bool>> = (0..self.named_parts.len())
+            .map(|p| (0..n).map(|k| covers(p, k)).collect())
+            .collect();
+        self.assign_named_parts(&mut outline, &claims, describe)?;
+        let mut total = vec![0.0; outline.part_names.len()];
+        for (k, &p) in outline.side_part.iter().enumerate() {
+            total[p as usize] += side_exact[k];
+        }
+        outline.exact_length = total.into_iter().map(Some).collect();
+        Ok(outline)
     }
 
     /// Puts the sides each part named by the user claims (`claims[p][k]`: part p covers side
@@ -1259,8 +1254,24 @@ mod tests {
         s
     }
 
+    /// Sum of the wall areas of part `name` (m per m of depth).
+    pub(super) fn part_sum(setup: &ParticleSetup<2>, name: &str) -> f64 {
+        let p = setup
+            .part_names
+            .iter()
+            .position(|n| n == name)
+            .expect("the part exists") as u16;
+        setup
+            .wall_area
+            .iter()
+            .zip(&setup.wall_part)
+            .filter(|(_, &q)| q == p)
+            .map(|(a, _)| a)
+            .sum()
+    }
+
     /// Relative difference |a − b| / b.
-    fn rel(a: f64, b: f64) -> f64 {
+    pub(super) fn rel(a: f64, b: f64) -> f64 {
         (a - b).abs() / b
     }
 
@@ -1447,27 +1458,8 @@ mod tests {
 
 #[cfg(test)]
 mod solid_tests {
+    use super::tests::{part_sum, rel};
     use super::*;
-
-    /// Sum of the wall areas of part `name` (m per m of depth).
-    fn part_sum(setup: &ParticleSetup<2>, name: &str) -> f64 {
-        let p = setup
-            .part_names
-            .iter()
-            .position(|n| n == name)
-            .expect("the part exists") as u16;
-        setup
-            .wall_area
-            .iter()
-            .zip(&setup.wall_part)
-            .filter(|(_, &q)| q == p)
-            .map(|(a, _)| a)
-            .sum()
-    }
-
-    fn rel(a: f64, b: f64) -> f64 {
-        (a - b).abs() / b
-    }
 
     fn tank_2x1() -> SectionTank2 {
         SectionTank2::new(
@@ -1622,27 +1614,8 @@ mod solid_tests {
 
 #[cfg(test)]
 mod named_part_tests {
+    use super::tests::{part_sum, rel};
     use super::*;
-
-    /// Sum of the wall areas of part `name` (m per m of depth).
-    fn part_sum(setup: &ParticleSetup<2>, name: &str) -> f64 {
-        let p = setup
-            .part_names
-            .iter()
-            .position(|n| n == name)
-            .expect("the part exists") as u16;
-        setup
-            .wall_area
-            .iter()
-            .zip(&setup.wall_part)
-            .filter(|(_, &q)| q == p)
-            .map(|(a, _)| a)
-            .sum()
-    }
-
-    fn rel(a: f64, b: f64) -> f64 {
-        (a - b).abs() / b
-    }
 
     #[test]
     fn circle_arcs_sum_to_their_arc_lengths() {

@@ -24,7 +24,7 @@ pub(crate) fn check_part_name(what: &str, name: &str) -> Result<(), GeometryErro
 }
 
 /// Shape of a fixed solid inside a 2D section, in section coordinates (m).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub enum Solid2Shape {
     /// A rectangular plate (a baffle): `length` (m) along its axis, `thickness` (m) across it,
     /// centred on `centre` (m), its axis turned `angle_deg` (degrees, counter-clockwise) from
@@ -36,7 +36,8 @@ pub enum Solid2Shape {
         length: f64,
         /// Thickness across the axis (m).
         thickness: f64,
-        /// Angle of the axis from +x, counter-clockwise (degrees).
+        /// Angle of the axis from +x, counter-clockwise (degrees); `angle` in scripts.
+        #[serde(rename = "angle")]
         angle_deg: f64,
     },
     /// A circle of `radius` (m) centred on `centre` (m): the section of a horizontal pipe or
@@ -53,7 +54,7 @@ pub enum Solid2Shape {
 
 /// A fixed solid inside a 2D section with the part name its wall particles get (solids of the
 /// same name share a part; a solid named `bottom`, `wall` or `roof` adds to that tank part).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Solid2 {
     /// Part name, used in the load outputs (e.g. "baffle").
     pub name: String,

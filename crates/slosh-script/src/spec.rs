@@ -8,7 +8,7 @@ use slosh_core::{
 };
 use slosh_geometry::{
     bounding_box_2d, InitialSurface, InternalSolid, RectPiece, SectionRoof, SectionShape,
-    SectionTank2, Solid2, SolidShape, TankMesh,
+    SectionTank2, Solid2, Solid2Shape, SolidShape, TankMesh,
 };
 use std::collections::BTreeSet;
 
@@ -159,7 +159,7 @@ pub enum TankSpec {
         tilt_shape: String,
         /// Fixed solids inside the tank (baffles, columns); a closed (roofed) section only.
         #[serde(skip_serializing_if = "Vec::is_empty")]
-        solids: Vec<SolidSpec>,
+        solids: Vec<Solid2>,
         /// Parts named by the user on a roofed rectangle: name and the pieces it covers
         /// (`floor`, `left_wall`, `right_wall`, `roof`, `roof_left`, `roof_right`).
         #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -177,7 +177,7 @@ pub enum TankSpec {
         tilt_shape: String,
         /// Fixed solids inside the tank (baffles, columns).
         #[serde(skip_serializing_if = "Vec::is_empty")]
-        solids: Vec<SolidSpec>,
+        solids: Vec<Solid2>,
         /// Parts named by the user on a polygon: name and the first and last side (side k
         /// joins point k to point k+1 of the outline as given).
         #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -372,111 +372,60 @@ fn describe_solid_3d(s: &InternalSolid) -> String {
     }
 }
 
-/// A fixed solid inside a 2D tank, `solids: [#{ name, shape, … }]`.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct SolidSpec {
-    /// Part name its loads are reported under.
-    pub name: String,
-    /// Its shape.
-    pub shape: SolidShapeSpec,
-}
-
-/// Shape of a [`SolidSpec`] (lengths in m, angles in degrees).
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub enum SolidShapeSpec {
-    /// `shape: "plate"`: a rectangle `length` × `thickness` centred on `centre`, its length
-    /// turned `angle` degrees counter-clockwise from +x.
-    Plate {
-        /// Centre [x, y] (m).
-        centre: [f64; 2],
-        /// Length (m).
-        length: f64,
-        /// Thickness (m).
-        thickness: f64,
-        /// Angle from +x (degrees).
-        angle: f64,
-    },
-    /// `shape: "circle"`: a circle of `radius` centred on `centre`.
-    Circle {
-        /// Centre [x, y] (m).
-        centre: [f64; 2],
-        /// Radius (m).
-        radius: f64,
-    },
-    /// `shape: "polygon"`: a closed simple polygon `outline` of [x, y] points.
-    Polygon(Vec<[f64; 2]>),
-}
-
-impl SolidSpec {
-    /// The geometry's solid.
-    pub fn solid(&self) -> Solid2 {
-        match &self.shape {
-            SolidShapeSpec::Plate {
-                centre,
-                length,
-                thickness,
-                angle,
-            } => Solid2::plate(&self.name, *centre, *length, *thickness, *angle),
-            SolidShapeSpec::Circle { centre, radius } => {
-                Solid2::circle(&self.name, *centre, *radius)
-            }
-            SolidShapeSpec::Polygon(points) => Solid2::polygon(&self.name, points.clone()),
-        }
+/// Reads one `#{ name, shape, … }` map of a 2D tank's `solids` list (lengths in m, angles in
+/// degrees): `shape: "plate"` (`centre`, `length`, `thickness`, `angle` from +x), `"circle"`
+/// (`centre`, `radius`) or `"polygon"` (`outline`, a list of [x, y] points).
+fn solid_from_map(k: usize, map: &Map) -> Result<Solid2, String> {
+    let mut r = MapReader::new("tank solid", map);
+    let at = |m: String| format!("tank: solids[{k}]: {m}");
+    let name = r.str_or("name", "")?;
+    if name.is_empty() {
+        return Err(at(
+            "needs a 'name', the part its loads are reported under".into()
+        ));
     }
-
-    /// Reads one `#{ name, shape, … }` map of a tank's `solids` list.
-    fn from_map(k: usize, map: &Map) -> Result<SolidSpec, String> {
-        let mut r = MapReader::new("tank solid", map);
-        let at = |m: String| format!("tank: solids[{k}]: {m}");
-        let name = r.str_or("name", "")?;
-        if name.is_empty() {
-            return Err(at(
-                "needs a 'name', the part its loads are reported under".into()
-            ));
+    let centre = |r: &mut MapReader| -> Result<[f64; 2], String> {
+        match r.get("centre") {
+            None => Err(at("needs 'centre', [x, y] (m)".into())),
+            Some(d) => {
+                let p = points_from_dynamic(&Dynamic::from(vec![d.clone()]))
+                    .map_err(|_| at(format!("'centre' must be [x, y] (got {d})")))?;
+                Ok(p[0])
+            }
         }
-        let centre = |r: &mut MapReader| -> Result<[f64; 2], String> {
-            match r.get("centre") {
-                None => Err(at("needs 'centre', [x, y] (m)".into())),
-                Some(d) => {
-                    let p = points_from_dynamic(&Dynamic::from(vec![d.clone()]))
-                        .map_err(|_| at(format!("'centre' must be [x, y] (got {d})")))?;
-                    Ok(p[0])
-                }
-            }
-        };
-        let shape = match r.str_or("shape", "")?.as_str() {
-            "plate" => SolidShapeSpec::Plate {
-                centre: centre(&mut r)?,
-                length: r
-                    .opt_f64("length")?
-                    .ok_or_else(|| at("a plate needs 'length' (m)".into()))?,
-                thickness: r
-                    .opt_f64("thickness")?
-                    .ok_or_else(|| at("a plate needs 'thickness' (m)".into()))?,
-                angle: r.f64_or("angle", 0.0)?,
-            },
-            "circle" => SolidShapeSpec::Circle {
-                centre: centre(&mut r)?,
-                radius: r
-                    .opt_f64("radius")?
-                    .ok_or_else(|| at("a circle needs 'radius' (m)".into()))?,
-            },
-            "polygon" => SolidShapeSpec::Polygon(r.opt_points("outline")?.ok_or_else(|| {
-                at("a polygon needs 'outline', a list of [x, y] points (m)".into())
-            })?),
-            other => {
-                return Err(at(format!(
-                    "unknown shape \"{other}\" (use \"plate\", \"circle\" or \"polygon\")"
-                )))
-            }
-        };
-        r.finish().map_err(at)?;
-        Ok(SolidSpec { name, shape })
-    }
+    };
+    let shape = match r.str_or("shape", "")?.as_str() {
+        "plate" => Solid2Shape::Plate {
+            centre: centre(&mut r)?,
+            length: r
+                .opt_f64("length")?
+                .ok_or_else(|| at("a plate needs 'length' (m)".into()))?,
+            thickness: r
+                .opt_f64("thickness")?
+                .ok_or_else(|| at("a plate needs 'thickness' (m)".into()))?,
+            angle_deg: r.f64_or("angle", 0.0)?,
+        },
+        "circle" => Solid2Shape::Circle {
+            centre: centre(&mut r)?,
+            radius: r
+                .opt_f64("radius")?
+                .ok_or_else(|| at("a circle needs 'radius' (m)".into()))?,
+        },
+        "polygon" => Solid2Shape::Polygon(r.opt_points("outline")?.ok_or_else(|| {
+            at("a polygon needs 'outline', a list of [x, y] points (m)".into())
+        })?),
+        other => {
+            return Err(at(format!(
+                "unknown shape \"{other}\" (use \"plate\", \"circle\" or \"polygon\")"
+            )))
+        }
+    };
+    r.finish().map_err(at)?;
+    Ok(Solid2 { name, shape })
 }
 
 /// Reads a tank's `solids`: a list of solid maps (empty when absent).
-fn read_solids(r: &mut MapReader) -> Result<Vec<SolidSpec>, String> {
+fn read_solids(r: &mut MapReader) -> Result<Vec<Solid2>, String> {
     let Some(list) = r.get("solids") else {
         return Ok(Vec::new());
     };
@@ -489,7 +438,7 @@ fn read_solids(r: &mut MapReader) -> Result<Vec<SolidSpec>, String> {
             let map = d.read_lock::<Map>().ok_or_else(|| {
                 format!("tank: solids[{k}] must be a map #{{ name, shape, … }} (got {d})")
             })?;
-            SolidSpec::from_map(k, &map)
+            solid_from_map(k, &map)
         })
         .collect()
 }
@@ -775,7 +724,7 @@ impl TankSpec {
             .into_iter()
             .map(|(n, w)| (n.to_string(), w))
             .collect();
-        let (named, solids): (Vec<(String, String)>, &[SolidSpec]) = match self {
+        let (named, solids): (Vec<(String, String)>, &[Solid2]) = match self {
             TankSpec::Section {
                 parts,
                 arc_parts,
@@ -836,20 +785,20 @@ impl TankSpec {
         }
         for s in solids {
             let what = match &s.shape {
-                SolidShapeSpec::Plate {
+                Solid2Shape::Plate {
                     centre,
                     length,
                     thickness,
-                    angle,
+                    angle_deg,
                 } => format!(
-                    "internal plate {length} × {thickness} m at ({}, {}) m, {angle}° from x",
+                    "internal plate {length} × {thickness} m at ({}, {}) m, {angle_deg}° from x",
                     centre[0], centre[1]
                 ),
-                SolidShapeSpec::Circle { centre, radius } => format!(
+                Solid2Shape::Circle { centre, radius } => format!(
                     "internal circle of radius {radius} m at ({}, {}) m",
                     centre[0], centre[1]
                 ),
-                SolidShapeSpec::Polygon(points) => {
+                Solid2Shape::Polygon(points) => {
                     format!("internal polygon of {} points", points.len())
                 }
             };
@@ -1048,7 +997,7 @@ impl TankSpec {
             .with_initial_tilt(*tilt)
             .with_initial_shape(InitialSurface::from_name(tilt_shape).unwrap_or_default());
         for s in solids {
-            tank = tank.with_solid(s.solid());
+            tank = tank.with_solid(s.clone());
         }
         match self {
             TankSpec::Section {

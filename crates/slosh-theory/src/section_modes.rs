@@ -215,15 +215,17 @@ fn symmetric_eigen(mut a: Vec<Vec<f64>>) -> (Vec<f64>, Vec<Vec<f64>>) {
                 let t = if theta == 0.0 { 1.0 } else { t };
                 let c = 1.0 / (t * t + 1.0).sqrt();
                 let s = t * c;
-                for k in 0..n {
-                    let (akp, akq) = (a[k][p], a[k][q]);
-                    a[k][p] = c * akp - s * akq;
-                    a[k][q] = s * akp + c * akq;
+                for row in a.iter_mut() {
+                    let (akp, akq) = (row[p], row[q]);
+                    row[p] = c * akp - s * akq;
+                    row[q] = s * akp + c * akq;
                 }
-                for k in 0..n {
-                    let (apk, aqk) = (a[p][k], a[q][k]);
-                    a[p][k] = c * apk - s * aqk;
-                    a[q][k] = s * apk + c * aqk;
+                // rows p and q (p < q)
+                let (upper, lower) = a.split_at_mut(q);
+                for (ap, aq) in upper[p].iter_mut().zip(lower[0].iter_mut()) {
+                    let (apk, aqk) = (*ap, *aq);
+                    *ap = c * apk - s * aqk;
+                    *aq = s * apk + c * aqk;
                 }
                 for row in v.iter_mut() {
                     let (vp, vq) = (row[p], row[q]);
@@ -279,11 +281,13 @@ pub fn first_antisymmetric_ritz(section: &SymmetricSection, degree: usize) -> f6
             }
         }
     }
-    for i in 0..n {
-        for j in 0..i {
-            let m = 0.5 * (a[i][j] + a[j][i]);
-            a[i][j] = m;
-            a[j][i] = m;
+    for i in 1..n {
+        // row i and the rows j < i above it
+        let (upper, lower) = a.split_at_mut(i);
+        for (j, row_j) in upper.iter_mut().enumerate() {
+            let m = 0.5 * (lower[0][j] + row_j[i]);
+            lower[0][j] = m;
+            row_j[i] = m;
         }
     }
     let (d, v) = symmetric_eigen(a);

@@ -503,7 +503,7 @@ pub(crate) fn free_decay_with(
             &ctx.out,
             &stem,
             &PlotSpec::new(
-                &format!("Free decay, {label}, tank {w} × {d} m"),
+                format!("Free decay, {label}, tank {w} × {d} m"),
                 "t / T₁ (-)",
                 "η at the left wall / initial η (-)",
             ),

@@ -283,6 +283,9 @@ fn ratios_check(name: &str, ratios: &[f64], reason: &str) -> Check {
 /// What is known of the forced overshoot, shown where a preset misses the target.
 const FORCED_GAP: &str = "see the modern preset's variants below and docs/validation.md";
 
+/// A variant of a preset: its name and the change it makes to the parameters.
+type Variant = (&'static str, fn(&mut SphParams));
+
 /// The stage: both presets judged, the modern preset's variants reported.
 pub fn forced_from_rest(ctx: &Context) -> GroupResult {
     let mut g = GroupResult::default();
@@ -304,7 +307,7 @@ pub fn forced_from_rest(ctx: &Context) -> GroupResult {
         ),
     ];
     if !ctx.quick {
-        let variants: [(&str, fn(&mut SphParams)); 9] = [
+        let variants: [Variant; 9] = [
             ("modern, no wall-pressure floor", |p| {
                 p.wall_separation = false
             }),

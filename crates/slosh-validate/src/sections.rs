@@ -35,6 +35,76 @@ pub fn half_full_circle_period(radius: f64, gravity: f64) -> f64 {
     2.0 * std::f64::consts::PI / (HALF_FULL_CIRCLE_EIGENVALUE * gravity / radius).sqrt()
 }
 
+/// What [`section_period_run`] measures: the centre-of-mass period (s), the reference
+/// period T₁ (s), the still depth the lattice holds (m) and the particle steps run.
+struct PeriodRun {
+    period: f64,
+    t1: f64,
+    held: f64,
+    steps: f64,
+}
+
+/// Free decay of the section `tank` (its first-mode start set) at spacing `dx` (m), modern
+/// scheme: 3.3 periods T₁ = `reference(held)` (s, for the still depth `held` the lattice
+/// holds, m), the centre of mass sampled every T₁/200; `describe(held, fluid particles)` is
+/// the progress line.
+fn section_period_run(
+    ctx: &Context,
+    tank: SectionTank2,
+    dx: f64,
+    reference: impl Fn(f64) -> f64,
+    describe: impl Fn(f64, usize) -> String,
+) -> Result<PeriodRun> {
+    let setup = tank.build(dx)?;
+    let mut sim = Simulation::new(setup, SphParams::modern())?;
+    let held = sim.fill_level();
+    let t1 = reference(held);
+    ctx.say(&describe(held, sim.fluid().position.len()));
+    let (h, steps) = free_run(&mut sim, 3.3 * t1, t1 / 200.0)?;
+    Ok(PeriodRun {
+        period: h.period(),
+        t1,
+        held,
+        steps,
+    })
+}
+
+/// A circular section of `radius` (m) filled to `depth` (m), starting from its first mode
+/// tilted 5 % of the radius.
+fn circle_in_first_mode(radius: f64, depth: f64) -> SectionTank2 {
+    SectionTank2::new(SectionShape::Circle { radius }, depth)
+        .with_initial_tilt(0.05 * radius)
+        .with_initial_shape(InitialSurface::FirstMode)
+}
+
+/// Adds the period check of `run` to `g`: `label(held depth, m)` names the row, `tolerance`
+/// and `note` judge it; a failed run becomes a failed row naming `what`.
+fn push_period_check(
+    g: &mut GroupResult,
+    group: &str,
+    run: Result<PeriodRun>,
+    what: &str,
+    label: impl FnOnce(f64) -> String,
+    tolerance: f64,
+    note: &str,
+) {
+    match run {
+        Ok(r) => {
+            g.particle_steps += r.steps;
+            g.checks.push(relative_check(
+                group,
+                &label(r.held),
+                r.period,
+                r.t1,
+                "s",
+                tolerance,
+                note,
+            ));
+        }
+        Err(e) => g.checks.push(failed_run(group, what, &format!("{e:#}"))),
+    }
+}
+
 /// Free sloshing of the half-full circle and of the cone-roofed rectangle (modern scheme,
 /// first-mode start).
 pub fn free_sloshing_sections(ctx: &Context) -> GroupResult {
@@ -42,95 +112,77 @@ pub fn free_sloshing_sections(ctx: &Context) -> GroupResult {
     let mut g = GroupResult::default();
     // circle: R = 0.5 m, half full, 40 particles per radius
     let (radius, per_radius) = (0.5, 40.0);
-    let circle = || -> Result<(f64, f64, f64, f64)> {
-        let dx = radius / per_radius;
-        let setup = SectionTank2::new(SectionShape::Circle { radius }, radius)
-            .with_initial_tilt(0.05 * radius)
-            .with_initial_shape(InitialSurface::FirstMode)
-            .build(dx)?;
-        let mut sim = Simulation::new(setup, SphParams::modern())?;
-        let held = sim.fill_level();
-        let t1 = half_full_circle_period(radius, GRAVITY);
-        ctx.say(&format!(
-            "modern: half-full circle R = {radius} m, dx = {dx} m, {} fluid particles, 3.3 T₁",
-            sim.fluid().position.len()
-        ));
-        let (h, steps) = free_run(&mut sim, 3.3 * t1, t1 / 200.0)?;
-        Ok((h.period(), t1, held, steps))
-    };
-    match circle() {
-        Ok((period, t1, held, steps)) => {
-            g.particle_steps += steps;
-            g.checks.push(relative_check(
-                group,
-                &format!(
-                    "modern: first-mode period, half-full circle R = {radius} m (held \
-                     {held:.4} m), {per_radius} particles per radius"
-                ),
-                period,
-                t1,
-                "s",
-                CIRCLE_PERIOD_TOL,
-                "3 %, the 3D cylinder's tolerance (curved wall on the lattice). Reference: \
-                 ω₁²R/g = 1.3557 for the half-full circular canal (the problem of Budiansky \
-                 1960 and McIver 1989, J. Fluid Mech. 201; Ritz value computed here, between \
-                 the wedge bound 1 and the rectangle bound 1.4406)",
-            ));
-        }
-        Err(e) => g
-            .checks
-            .push(failed_run(group, "half-full circle", &format!("{e:#}"))),
-    }
+    let dx = radius / per_radius;
+    let run = section_period_run(
+        ctx,
+        circle_in_first_mode(radius, radius),
+        dx,
+        |_| half_full_circle_period(radius, GRAVITY),
+        |_, fluid| {
+            format!(
+                "modern: half-full circle R = {radius} m, dx = {dx} m, {fluid} fluid particles, \
+                 3.3 T₁"
+            )
+        },
+    );
+    push_period_check(
+        &mut g,
+        group,
+        run,
+        "half-full circle",
+        |held| {
+            format!(
+                "modern: first-mode period, half-full circle R = {radius} m (held \
+                 {held:.4} m), {per_radius} particles per radius"
+            )
+        },
+        CIRCLE_PERIOD_TOL,
+        "3 %, the 3D cylinder's tolerance (curved wall on the lattice). Reference: \
+         ω₁²R/g = 1.3557 for the half-full circular canal (the problem of Budiansky \
+         1960 and McIver 1989, J. Fluid Mech. 201; Ritz value computed here, between \
+         the wedge bound 1 and the rectangle bound 1.4406)",
+    );
     // rectangle 1 m wide, walls 0.8 m, cone roof rising 0.2 m, 0.4 m of water, 40 per depth
     let (width, wall, rise, depth) = (1.0, 0.8, 0.2, 0.4);
-    let rect = || -> Result<(f64, f64, f64, f64)> {
-        let dx = depth / 40.0;
-        let setup = SectionTank2::new(
-            SectionShape::RoofedRect {
-                width,
-                wall_height: wall,
-                roof: SectionRoof::Cone { apex_height: rise },
-            },
-            depth,
-        )
-        .with_initial_tilt(0.05 * depth)
-        .with_initial_shape(InitialSurface::FirstMode)
-        .build(dx)?;
-        let mut sim = Simulation::new(setup, SphParams::modern())?;
-        let held = sim.fill_level();
-        let t1 = rectangular_period(width, held, GRAVITY, 1);
-        ctx.say(&format!(
-            "modern: cone-roofed rectangle {width} × {held:.2} m, dx = {dx} m, {} fluid \
-             particles, 3.3 T₁",
-            sim.fluid().position.len()
-        ));
-        let (h, steps) = free_run(&mut sim, 3.3 * t1, t1 / 200.0)?;
-        Ok((h.period(), t1, held, steps))
-    };
-    match rect() {
-        Ok((period, t1, held, steps)) => {
-            g.particle_steps += steps;
-            g.checks.push(relative_check(
-                group,
-                &format!(
-                    "modern: first-mode period, {width} × {held:.2} m under a cone roof \
-                     ({wall} m walls, rise {rise} m), 40 particles per depth"
-                ),
-                period,
-                t1,
-                "s",
-                RECT_PERIOD_TOL,
-                "1.5 %, the laboratory tolerance of the modern preset; the roof is out of the \
-                 liquid's reach, so the open rectangle's linear period applies (T₁ = 2π/ω₁, \
-                 ω₁² = (π g/L) tanh(π H/L))",
-            ));
-        }
-        Err(e) => g.checks.push(failed_run(
-            group,
-            "cone-roofed rectangle",
-            &format!("{e:#}"),
-        )),
-    }
+    let dx = depth / 40.0;
+    let rect = SectionTank2::new(
+        SectionShape::RoofedRect {
+            width,
+            wall_height: wall,
+            roof: SectionRoof::Cone { apex_height: rise },
+        },
+        depth,
+    )
+    .with_initial_tilt(0.05 * depth)
+    .with_initial_shape(InitialSurface::FirstMode);
+    let run = section_period_run(
+        ctx,
+        rect,
+        dx,
+        |held| rectangular_period(width, held, GRAVITY, 1),
+        |held, fluid| {
+            format!(
+                "modern: cone-roofed rectangle {width} × {held:.2} m, dx = {dx} m, {fluid} \
+                 fluid particles, 3.3 T₁"
+            )
+        },
+    );
+    push_period_check(
+        &mut g,
+        group,
+        run,
+        "cone-roofed rectangle",
+        |held| {
+            format!(
+                "modern: first-mode period, {width} × {held:.2} m under a cone roof \
+                 ({wall} m walls, rise {rise} m), 40 particles per depth"
+            )
+        },
+        RECT_PERIOD_TOL,
+        "1.5 %, the laboratory tolerance of the modern preset; the roof is out of the \
+         liquid's reach, so the open rectangle's linear period applies (T₁ = 2π/ω₁, \
+         ω₁² = (π g/L) tanh(π H/L))",
+    );
     g.notes.push(
         "Closed 2D sections, modern scheme, first-mode start (cos πξ across the width, 5 % of \
          the depth at the left), 3.3 theoretical periods; period from the centre-of-mass \
@@ -156,53 +208,43 @@ pub fn free_sloshing_overhang(ctx: &Context) -> GroupResult {
     let (radius, per_radius, fill) = (0.5, 40.0, 1.5);
     let depth = fill * radius;
     let lambda = slosh_theory::section_modes::circle_eigenvalue(fill);
-    let run = || -> Result<(f64, f64, f64, f64)> {
-        let dx = radius / per_radius;
-        let setup = SectionTank2::new(SectionShape::Circle { radius }, depth)
-            .with_initial_tilt(0.05 * radius)
-            .with_initial_shape(InitialSurface::FirstMode)
-            .build(dx)?;
-        let mut sim = Simulation::new(setup, SphParams::modern())?;
-        let held = sim.fill_level();
+    let dx = radius / per_radius;
+    let run = section_period_run(
+        ctx,
+        circle_in_first_mode(radius, depth),
+        dx,
         // the reference for the depth the lattice holds
-        let t1 = slosh_theory::section_modes::circle_period(radius, held, GRAVITY);
-        ctx.say(&format!(
-            "modern: circle R = {radius} m filled to {held:.4} m (3/4 of the diameter), \
-             dx = {dx} m, {} fluid particles, 3.3 T₁",
-            sim.fluid().position.len()
-        ));
-        let (h, steps) = free_run(&mut sim, 3.3 * t1, t1 / 200.0)?;
-        Ok((h.period(), t1, held, steps))
-    };
-    match run() {
-        Ok((period, t1, held, steps)) => {
-            g.particle_steps += steps;
-            g.checks.push(relative_check(
-                group,
-                &format!(
-                    "modern: first-mode period, circle R = {radius} m filled to {held:.4} m \
-                     (h/R = {:.3}: the upper arc overhangs the surface), {per_radius} particles \
-                     per radius",
-                    held / radius
-                ),
-                period,
-                t1,
-                "s",
-                OVERHANG_PERIOD_TOL,
-                &format!(
-                    "3 %, as for the half-full circle. Reference: ω₁²R/g = {lambda:.4} at \
-                     h/R = {fill} by potential-flow Ritz over harmonic polynomials odd in x \
-                     (degree 24, converged to 1e-5; slosh_theory::section_modes, verified \
-                     against the exact rectangle and 90° wedge and the half-full circle's \
-                     1.3557 of Budiansky 1960 / McIver 1989); no published table for this \
-                     fill was at hand"
-                ),
-            ));
-        }
-        Err(e) => g
-            .checks
-            .push(failed_run(group, "circle filled to 3/4", &format!("{e:#}"))),
-    }
+        |held| slosh_theory::section_modes::circle_period(radius, held, GRAVITY),
+        |held, fluid| {
+            format!(
+                "modern: circle R = {radius} m filled to {held:.4} m (3/4 of the diameter), \
+                 dx = {dx} m, {fluid} fluid particles, 3.3 T₁"
+            )
+        },
+    );
+    push_period_check(
+        &mut g,
+        group,
+        run,
+        "circle filled to 3/4",
+        |held| {
+            format!(
+                "modern: first-mode period, circle R = {radius} m filled to {held:.4} m \
+                 (h/R = {:.3}: the upper arc overhangs the surface), {per_radius} particles \
+                 per radius",
+                held / radius
+            )
+        },
+        OVERHANG_PERIOD_TOL,
+        &format!(
+            "3 %, as for the half-full circle. Reference: ω₁²R/g = {lambda:.4} at \
+             h/R = {fill} by potential-flow Ritz over harmonic polynomials odd in x \
+             (degree 24, converged to 1e-5; slosh_theory::section_modes, verified \
+             against the exact rectangle and 90° wedge and the half-full circle's \
+             1.3557 of Budiansky 1960 / McIver 1989); no published table for this \
+             fill was at hand"
+        ),
+    );
     g.notes.push(
         "Circle filled to 3/4 of its diameter (the upper arc overhangs the liquid), modern \
          scheme, first-mode start, 3.3 theoretical periods; period from the centre-of-mass \
