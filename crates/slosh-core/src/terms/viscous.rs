@@ -116,16 +116,16 @@ mod tests {
     use crate::kernel::{Kernel, KernelKind};
 
     /// The operator's sum over a full square lattice about a particle, for a quadratic
-    /// velocity field v(x) (2D, Wendland C2, h = 1.5 dx as in the modern scheme).
+    /// velocity field v(x) (2D, Wendland C2, h = 3 dx: a lattice fine against the kernel).
     fn lattice_acceleration(v: impl Fn(f64, f64) -> Vector<2>) -> Vector<2> {
         let (dx, rho, mu) = (0.01, 1000.0, 1.0);
-        let h = 1.5 * dx;
+        let h = 3.0 * dx;
         let kernel = Kernel::new(KernelKind::WendlandC2, h, 2);
         let m = rho * dx * dx;
         let k_mu_m = monaghan_cleary_k(2) * mu * m;
         let mut acc = Vector::<2>::zeros();
-        for a in -4i32..=4 {
-            for b in -4i32..=4 {
+        for a in -7i32..=7 {
+            for b in -7i32..=7 {
                 if a == 0 && b == 0 {
                     continue;
                 }
@@ -142,8 +142,10 @@ mod tests {
     }
 
     /// In the bulk the operator is μ (∇²v + 2 ∇(∇·v))/ρ (Colagrossi et al. 2011): for the
-    /// shear v = (y², 0) that is (2, 0) μ/ρ, for v = (x², 0) (6, 0) μ/ρ. The lattice sum at
-    /// h = 1.5 dx and the 0.01 h² regularisation stay within 5 % of the closed form.
+    /// shear v = (y², 0) that is (2, 0) μ/ρ, for v = (x², 0) (6, 0) μ/ρ. The lattice sum
+    /// converges to it as h/dx grows: at h = 3 dx it is −2.3 % and −1.3 % off (the 0.01 h²
+    /// regularisation and the lattice), so 5 %; at the modern scheme's h = 1.5 dx the shear
+    /// sum is 12 % low, a discretisation error of the coarse kernel, not of the operator.
     #[test]
     fn bulk_limit_is_the_laplacian_plus_twice_the_divergence_gradient() {
         let shear = lattice_acceleration(|_, y| Vector::<2>::new(y * y, 0.0));
