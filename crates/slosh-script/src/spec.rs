@@ -4,7 +4,7 @@ use rhai::{Dynamic, Map};
 use serde::Serialize;
 use slosh_core::{
     ArtificialSoundSpeed, BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, KernelKind,
-    NeighbourBackend, PairScheme, SoundSpeedRule, SphParams, WallPressureMethod,
+    NeighbourBackend, PairScheme, SoundSpeedRule, SphParams, ViscousOperator, WallPressureMethod,
 };
 use slosh_geometry::{
     bounding_box_2d, InitialSurface, InternalSolid, RectPiece, SectionRoof, SectionShape,
@@ -1423,6 +1423,22 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, Resolut
             ))
         }
     };
+    p.viscous_operator = match r
+        .str_or(
+            "viscous_operator",
+            viscous_operator_name(p.viscous_operator),
+        )?
+        .as_str()
+    {
+        "strain_rate" => ViscousOperator::StrainRate,
+        "monaghan_cleary" => ViscousOperator::MonaghanCleary,
+        other => {
+            return Err(format!(
+                "numerics: unknown viscous_operator \"{other}\" (use \"strain_rate\" or \
+                 \"monaghan_cleary\")"
+            ))
+        }
+    };
     p.pressure_smoothing_eps = r.f64_or("smoothing_eps", p.pressure_smoothing_eps)?;
     p.smoothing_steps = r.usize_or("smoothing_steps", p.smoothing_steps)?;
     r.finish()?;
@@ -1495,6 +1511,13 @@ fn pair_scheme_name(s: PairScheme) -> &'static str {
     match s {
         PairScheme::Standard => "standard",
         PairScheme::Riemann => "riemann",
+    }
+}
+
+fn viscous_operator_name(v: ViscousOperator) -> &'static str {
+    match v {
+        ViscousOperator::StrainRate => "strain_rate",
+        ViscousOperator::MonaghanCleary => "monaghan_cleary",
     }
 }
 
@@ -1574,6 +1597,13 @@ mod tests {
         ])
         .unwrap();
         assert_eq!(p.pair_scheme, PairScheme::Riemann);
+        assert_eq!(p.viscous_operator, ViscousOperator::StrainRate);
+        let (p, _, _) = numerics(&[
+            ("scheme", "modern".into()),
+            ("viscous_operator", "monaghan_cleary".into()),
+        ])
+        .unwrap();
+        assert_eq!(p.viscous_operator, ViscousOperator::MonaghanCleary);
         // The paper scheme is SphParams::default().
         let (p, _, _) = numerics(&[]).unwrap();
         assert!(!p.uses_modern_step());
@@ -1809,6 +1839,7 @@ mod tests {
             ("boundary", "mirror", "adami"),
             ("integrator", "euler", "symplectic"),
             ("pair_scheme", "godunov", "riemann"),
+            ("viscous_operator", "morris", "monaghan_cleary"),
         ] {
             let err = numerics(&[(key, value.into())]).unwrap_err();
             assert!(err.contains(value) && err.contains(hint), "{err}");

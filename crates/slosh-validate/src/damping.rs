@@ -16,7 +16,7 @@ use super::run::{fitted_slope, zero_crossings, Context, Runner, SineExcitation, 
 use super::{
     failed_run, fmt_num, info_row, open_if_failed, stayed_inside, Check, GroupResult, Verdict,
 };
-use slosh_core::{DensityDiffusion, PairScheme, Simulation, SphParams};
+use slosh_core::{DensityDiffusion, PairScheme, Simulation, SphParams, ViscousOperator};
 use slosh_geometry::{InitialSurface, RectTank2};
 use slosh_io::{PlotSpec, Series};
 use slosh_theory::damping::free_slip_viscous_mode;
@@ -261,9 +261,13 @@ const DAMPING_GAP: &str = "with the linear artificial viscosity gone (α = 0, β
     at coarse resolution and at 30–40 per depth is not known yet (not the density diffusion: \
     δ = 0.05 changed ζ by a tenth; docs/validation.md)";
 /// What is known of the viscous gap.
-const VISCOUS_GAP: &str = "the viscous term (Eq. 8 with the strain rate of Eq. 4–5) summed over \
-    liquid neighbours alone at the free surface is the suspected cause (Colagrossi et al. 2011 \
-    give a free-surface-consistent operator); not yet tested";
+const VISCOUS_GAP: &str = "at 30 per depth the excess is not the viscous operator: the same \
+    run with ν = 0 (no artificial viscosity) decays at γ = 0.088 1/s by itself (ζ = 1.63 %, \
+    crest scatter 11 %; 0.002 1/s at 15 per depth), and the excess over the exact rate stays \
+    0.040–0.047 1/s whether ν is 0.005 or 0.0025 m²/s: a numerical damping of the scheme at \
+    that resolution, the one the free decay of water shows at 30 per depth \
+    (docs/validation.md); the strain-rate operator of Eq. 8 gave −11.8 % at 15 and +38.6 % at \
+    30 per depth";
 
 /// The damping stage: free decay of the first mode of water in both tanks at every level with
 /// the modern preset (judged at 20 and 40 particles per depth), the convergence orders, and the
@@ -525,7 +529,10 @@ pub(crate) fn free_decay_with(
 }
 
 /// The viscous liquid: the modern preset without artificial viscosity, free-slip walls and
-/// ν = [`VISCOUS_NU`], against the exact linear decay rate of the free-slip tank.
+/// ν = [`VISCOUS_NU`], with the single-sum viscous operator (Colagrossi, Antuono,
+/// Souto-Iglesias & Le Touzé 2011, *Phys. Rev. E* 84, 026705; `docs/scheme.md`), against the
+/// exact linear decay rate of the free-slip tank; in the full suite the paper's strain-rate
+/// operator (Eq. 8 with Eq. 4–5) is measured beside it.
 pub fn viscous_decay(ctx: &Context) -> GroupResult {
     let mut g = GroupResult::default();
     let mut params = SphParams::modern();
@@ -539,56 +546,84 @@ pub fn viscous_decay(ctx: &Context) -> GroupResult {
     } else {
         &VISCOUS_LEVELS
     };
-    for &n in levels {
-        let name = format!(
-            "viscous liquid (ν = {VISCOUS_NU} m²/s, no artificial viscosity, free-slip walls): \
-             decay rate γ, tank {w} × {d} m, {n} per depth"
-        );
-        let run = match decay_run(ctx, "viscous liquid", params.clone(), (w, d), n, 6.0) {
-            Ok(r) => r,
-            Err(e) => {
-                g.checks.push(failed_run(GROUP, &name, &format!("{e:#}")));
-                continue;
-            }
+    let operators: &[(ViscousOperator, &str)] = if ctx.quick {
+        &[(
+            ViscousOperator::MonaghanCleary,
+            "single-sum viscous operator",
+        )]
+    } else {
+        &[
+            (
+                ViscousOperator::MonaghanCleary,
+                "single-sum viscous operator",
+            ),
+            (ViscousOperator::StrainRate, "strain-rate operator of Eq. 8"),
+        ]
+    };
+    for &(operator, op_label) in operators {
+        let judged = operator == ViscousOperator::MonaghanCleary;
+        let params = SphParams {
+            viscous_operator: operator,
+            ..params.clone()
         };
-        g.particle_steps += run.particle_steps;
-        g.checks.push(run.inside.clone());
-        let c = &run.decay;
-        // γ = ζ ω_d with the measured period: the amplitude falls by e^{−δ} per period.
-        let gamma = c.zeta / (1.0 - c.zeta * c.zeta).sqrt() * 2.0 * std::f64::consts::PI / c.period;
-        let k = rectangular_wavenumber(w, 1);
-        ctx.say(&format!(
-            "  → γ = {gamma:.4} 1/s, exact {:.4} 1/s",
-            free_slip_viscous_mode(w, run.depth, VISCOUS_NU, GRAVITY, 1)
-                .map_or(f64::NAN, |s| -s.re)
-        ));
-        match free_slip_viscous_mode(w, run.depth, VISCOUS_NU, GRAVITY, 1) {
-            Some(s) => g.checks.push(open_if_failed(
-                super::relative_check(
-                    GROUP,
-                    &name,
-                    gamma,
-                    -s.re,
-                    "1/s",
-                    VISCOUS_TOL,
-                    "exact linear decay of the free-slip tank (Lamb 1932 §349, the viscous \
-                     standing wave with a stress-free floor at depth H; deep-water limit \
-                     γ = 2νk²): the physical viscous term alone must give it",
-                ),
-                VISCOUS_GAP,
-            )),
-            None => g
-                .checks
-                .push(failed_run(GROUP, &name, "no oscillating mode in theory")),
+        for &n in levels {
+            let name = format!(
+                "viscous liquid (ν = {VISCOUS_NU} m²/s, no artificial viscosity, free-slip \
+                 walls, {op_label}): decay rate γ, tank {w} × {d} m, {n} per depth"
+            );
+            let run = match decay_run(ctx, op_label, params.clone(), (w, d), n, 6.0) {
+                Ok(r) => r,
+                Err(e) => {
+                    g.checks.push(failed_run(GROUP, &name, &format!("{e:#}")));
+                    continue;
+                }
+            };
+            g.particle_steps += run.particle_steps;
+            g.checks.push(run.inside.clone());
+            let c = &run.decay;
+            // γ = ζ ω_d with the measured period: the amplitude falls by e^{−δ} per period.
+            let gamma =
+                c.zeta / (1.0 - c.zeta * c.zeta).sqrt() * 2.0 * std::f64::consts::PI / c.period;
+            let k = rectangular_wavenumber(w, 1);
+            let exact = free_slip_viscous_mode(w, run.depth, VISCOUS_NU, GRAVITY, 1).map(|s| -s.re);
+            ctx.say(&format!(
+                "  → γ = {gamma:.4} 1/s, exact {:.4} 1/s",
+                exact.unwrap_or(f64::NAN)
+            ));
+            match exact {
+                Some(exact) => {
+                    let mut check = super::relative_check(
+                        GROUP,
+                        &name,
+                        gamma,
+                        exact,
+                        "1/s",
+                        VISCOUS_TOL,
+                        "exact linear decay of the free-slip tank (Lamb 1932 §349, the viscous \
+                         standing wave with a stress-free floor at depth H; deep-water limit \
+                         γ = 2νk²): the physical viscous term alone must give it",
+                    );
+                    if judged {
+                        check = open_if_failed(check, VISCOUS_GAP);
+                    } else {
+                        // The paper's operator is measured beside, not judged.
+                        check.verdict = Verdict::Info;
+                    }
+                    g.checks.push(check);
+                }
+                None => g
+                    .checks
+                    .push(failed_run(GROUP, &name, "no oscillating mode in theory")),
+            }
+            g.notes.push(format!(
+                "Viscous liquid, {op_label}, {n} per depth: γ = {gamma:.4} 1/s (ζ = {:.3} %, \
+                 T = {:.4} s, scatter {:.1} %); deep-water 2νk² = {:.4} 1/s.",
+                100.0 * c.zeta,
+                c.period,
+                100.0 * c.scatter,
+                2.0 * VISCOUS_NU * k * k
+            ));
         }
-        g.notes.push(format!(
-            "Viscous liquid, {n} per depth: γ = {gamma:.4} 1/s (ζ = {:.3} %, T = {:.4} s, \
-             scatter {:.1} %); deep-water 2νk² = {:.4} 1/s.",
-            100.0 * c.zeta,
-            c.period,
-            100.0 * c.scatter,
-            2.0 * VISCOUS_NU * k * k
-        ));
     }
     g
 }

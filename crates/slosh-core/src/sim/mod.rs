@@ -206,6 +206,17 @@ impl<const D: usize> Simulation<D> {
                     .into(),
             ));
         }
+        if params.viscous_operator == crate::params::ViscousOperator::MonaghanCleary
+            && (params.pair_scheme != crate::params::PairScheme::Standard
+                || params.boundary != crate::params::BoundaryMethod::Adami)
+        {
+            return Err(SimError::InvalidSetup(
+                "the single-sum viscous operator (viscous_operator \"monaghan_cleary\") is a \
+                 term of the modern step's standard pair against Adami walls: use it with \
+                 boundary \"adami\" and pair_scheme \"standard\" (as in scheme \"modern\")"
+                    .into(),
+            ));
+        }
         if params.dynamic_viscosity < 0.0 || params.av_alpha < 0.0 || params.av_beta < 0.0 {
             return Err(SimError::InvalidSetup(
                 "viscosity coefficients (dynamic_viscosity, av_alpha, av_beta) must be ≥ 0".into(),

@@ -123,17 +123,37 @@ impl<const D: usize> CoupledRun<D> {
                 }
                 DensityRate::Fourtakas => self.with_walls::<FourtakasDiffusion>(sim),
             },
+            // The single-sum viscous operator runs with the modern step's Adami walls
+            // (Simulation::new refuses it otherwise).
+            MomentumPair::Eq8MonaghanCleary => match density_rate {
+                DensityRate::None => {
+                    self.with_adami_walls::<NoDensityRate, Eq8MonaghanClearyPair>(sim)
+                }
+                DensityRate::Continuity => {
+                    self.with_adami_walls::<ContinuityOnly, Eq8MonaghanClearyPair>(sim)
+                }
+                DensityRate::MolteniColagrossi => {
+                    self.with_adami_walls::<MolteniColagrossiDiffusion, Eq8MonaghanClearyPair>(sim)
+                }
+                DensityRate::Fourtakas => {
+                    self.with_adami_walls::<FourtakasDiffusion, Eq8MonaghanClearyPair>(sim)
+                }
+            },
             // The Riemann pair integrates the density against Adami walls (Simulation::new
             // refuses it otherwise).
             MomentumPair::Riemann => match density_rate {
                 DensityRate::None => {
                     unreachable!("Simulation::new refuses the Riemann pair without continuity")
                 }
-                DensityRate::Continuity => self.with_adami_walls::<ContinuityOnly>(sim),
-                DensityRate::MolteniColagrossi => {
-                    self.with_adami_walls::<MolteniColagrossiDiffusion>(sim)
+                DensityRate::Continuity => {
+                    self.with_adami_walls::<ContinuityOnly, RiemannPair>(sim)
                 }
-                DensityRate::Fourtakas => self.with_adami_walls::<FourtakasDiffusion>(sim),
+                DensityRate::MolteniColagrossi => {
+                    self.with_adami_walls::<MolteniColagrossiDiffusion, RiemannPair>(sim)
+                }
+                DensityRate::Fourtakas => {
+                    self.with_adami_walls::<FourtakasDiffusion, RiemannPair>(sim)
+                }
             },
         }
     }
@@ -146,15 +166,17 @@ impl<const D: usize> CoupledRun<D> {
         }
     }
 
-    fn with_adami_walls<R: DensityRateTerm>(&self, sim: &mut Simulation<D>) {
+    fn with_adami_walls<R: DensityRateTerm, F: MomentumContinuityPair<D>>(
+        &self,
+        sim: &mut Simulation<D>,
+    ) {
         match self.wall_force {
-            WallForce::Dynamic => {
-                unreachable!("Simulation::new refuses the Riemann pair with dynamic walls")
-            }
-            WallForce::AdamiFreeSlip => {
-                self.with_shifting::<R, AdamiFreeSlipForce, RiemannPair>(sim)
-            }
-            WallForce::AdamiNoSlip => self.with_shifting::<R, AdamiNoSlipForce, RiemannPair>(sim),
+            WallForce::Dynamic => unreachable!(
+                "Simulation::new refuses the Riemann pair and the single-sum viscous operator \
+                 with dynamic walls"
+            ),
+            WallForce::AdamiFreeSlip => self.with_shifting::<R, AdamiFreeSlipForce, F>(sim),
+            WallForce::AdamiNoSlip => self.with_shifting::<R, AdamiNoSlipForce, F>(sim),
         }
     }
 

@@ -20,6 +20,7 @@ pub(crate) use walls::*;
 
 use crate::params::{
     BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, PairScheme, SphParams,
+    ViscousOperator,
 };
 
 /// How the fluid pairs of a pass are visited.
@@ -99,6 +100,9 @@ pub(crate) enum MomentumPair {
     Eq8,
     /// The Riemann-solver pair of Zhang, Hu & Adams 2017 (`terms::RiemannPair`).
     Riemann,
+    /// Eq. 8 with the single-sum viscous operator of Colagrossi et al. 2011 in place of the
+    /// strain-rate stress (`terms::Eq8MonaghanClearyPair`).
+    Eq8MonaghanCleary,
 }
 
 /// The density rate the coupled force pass sums.
@@ -162,12 +166,16 @@ impl StepPlan {
             PairSweep::Full
         };
         let viscous = params.dynamic_viscosity > 0.0;
+        // The strain rate of Eq. 4–5 feeds the paper's viscous operator and the no-slip wall
+        // velocity's share of it; the single-sum operator reads the velocities alone.
+        let strain_rate = viscous
+            && (params.viscous_operator == ViscousOperator::StrainRate || params.wall_no_slip);
         let density = match params.density {
             DensityMethod::Summation => DensityStage::Summation {
                 sweep: if coupled { PairSweep::Full } else { sweep },
             },
             DensityMethod::Continuity => DensityStage::Continuity {
-                velocity_gradient: viscous.then_some(sweep),
+                velocity_gradient: strain_rate.then_some(sweep),
                 hydrostatic: matches!(
                     params.density_diffusion,
                     DensityDiffusion::Fourtakas { delta } if delta > 0.0
@@ -209,9 +217,13 @@ impl StepPlan {
                         BoundaryMethod::Adami => WallForce::AdamiFreeSlip,
                     },
                     shifting_sums: params.shifting.is_some_and(|a| a > 0.0),
-                    pair: match params.pair_scheme {
-                        PairScheme::Standard => MomentumPair::Eq8,
-                        PairScheme::Riemann => MomentumPair::Riemann,
+                    pair: match (params.pair_scheme, params.viscous_operator) {
+                        (PairScheme::Standard, ViscousOperator::StrainRate) => MomentumPair::Eq8,
+                        (PairScheme::Standard, ViscousOperator::MonaghanCleary) => {
+                            MomentumPair::Eq8MonaghanCleary
+                        }
+                        // Simulation::new refuses the single-sum operator with the Riemann pair.
+                        (PairScheme::Riemann, _) => MomentumPair::Riemann,
                     },
                 })
             } else {
@@ -269,6 +281,7 @@ impl StepPlan {
                 match pair {
                     MomentumPair::Eq8 => "",
                     MomentumPair::Riemann => "Riemann-solver ",
+                    MomentumPair::Eq8MonaghanCleary => "single-sum viscous ",
                 },
                 match density_rate {
                     DensityRate::None => "no density rate",
