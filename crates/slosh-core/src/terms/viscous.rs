@@ -93,20 +93,9 @@ impl<const D: usize> MomentumContinuityPair<D> for Eq8MonaghanClearyPair {
     ) -> WallPairFlux<D> {
         // Dynamic walls are refused with this operator (Simulation::new): an Adami wall
         // carries the pressure alone, or the no-slip force the coupled pass adds.
-        let (acc, grad_w, f, inv_s, inv_rho_iw) = base.wall_momentum(o, w, xiw, r2, with_av, false);
-        let drho = if continuity {
-            base.c.mass * o.v.dot(&grad_w)
-        } else {
-            0.0
-        };
-        WallPairFlux {
-            acc,
-            grad_w,
-            f,
-            inv_s,
-            inv_rho_iw,
-            drho,
-        }
+        <Eq8Pair as MomentumContinuityPair<D>>::wall(
+            &Eq8Pair, base, o, w, xiw, r2, with_av, false, continuity,
+        )
     }
 }
 
