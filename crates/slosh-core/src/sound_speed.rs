@@ -77,6 +77,22 @@ pub fn compressed_depth(
         * ((1.0 + p_bottom / b).powf((gamma - 1.0) / gamma) - 1.0)
 }
 
+/// Pressure (Pa) at `depth` m below the free surface of a Tait liquid at rest, the depth
+/// measured in the compressed liquid (dp/dz = ρ g with ρ = ρ0 (1 + p/B)^(1/γ)); the inverse
+/// of [`compressed_depth`]: p = B [(1 + ρ0 g z (γ−1)/(γ B))^(γ/(γ−1)) − 1] (≈ ρ0 g z (1 + ρ0 g z/(2γB))).
+pub fn tait_hydrostatic_pressure(
+    depth: f64,
+    eos_stiffness: f64,
+    eos_gamma: f64,
+    rest_density: f64,
+    gravity: f64,
+) -> f64 {
+    let (b, gamma, rho0, g) = (eos_stiffness, eos_gamma, rest_density, gravity);
+    // Floored at zero: far above the surface the pressure tends to −B, never to NaN.
+    let base = (1.0 + rho0 * g * depth * (gamma - 1.0) / (gamma * b)).max(0.0);
+    b * (base.powf(gamma / (gamma - 1.0)) - 1.0)
+}
+
 /// Chooses c0 and B for a tank with still depth `depth` (m) whose interior rises
 /// `interior_height` (m) above the floor, by `params.sound_speed`; refuses an explicitly
 /// chosen stiffness that compresses the still liquid by more than [`COMPRESSION_REFUSAL`].
@@ -215,5 +231,24 @@ mod tests {
         // k = 5 at H_ref = H: ≈ 1/(2k²) = 2 %, warned but not refused.
         let c = choose_sound_speed(&weak, 1.0, 1.0).unwrap();
         assert!(c.compression_warning().is_some());
+    }
+
+    /// The pressure under a compressed depth is the weight of the liquid above it: at the
+    /// bottom of a column of fill d, ρ0 g d (the mass is ρ0 d per unit area whatever the
+    /// compression), and dp/dz = ρ g on the way down (central difference, 1 mm steps).
+    #[test]
+    fn hydrostatic_pressure_is_the_weight_above() {
+        let (b, gamma, rho0, g) = (1.013e5, 7.0, 1000.0, 9.81);
+        for fill in [0.5, 5.0, 20.0] {
+            let z = compressed_depth(fill, b, gamma, rho0, g);
+            let p = tait_hydrostatic_pressure(z, b, gamma, rho0, g);
+            assert!((p / (rho0 * g * fill) - 1.0).abs() < 1e-12, "{fill}: {p}");
+            let dz = 1e-3;
+            let slope = (tait_hydrostatic_pressure(z + dz, b, gamma, rho0, g)
+                - tait_hydrostatic_pressure(z - dz, b, gamma, rho0, g))
+                / (2.0 * dz);
+            let rho = rho0 * (1.0 + p / b).powf(1.0 / gamma);
+            assert!((slope / (rho * g) - 1.0).abs() < 1e-8, "{fill}: {slope}");
+        }
     }
 }

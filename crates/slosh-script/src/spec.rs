@@ -394,32 +394,33 @@ fn solid_from_map(k: usize, map: &Map) -> Result<Solid2, String> {
             }
         }
     };
-    let shape = match r.str_or("shape", "")?.as_str() {
-        "plate" => Solid2Shape::Plate {
-            centre: centre(&mut r)?,
-            length: r
-                .opt_f64("length")?
-                .ok_or_else(|| at("a plate needs 'length' (m)".into()))?,
-            thickness: r
-                .opt_f64("thickness")?
-                .ok_or_else(|| at("a plate needs 'thickness' (m)".into()))?,
-            angle_deg: r.f64_or("angle", 0.0)?,
-        },
-        "circle" => Solid2Shape::Circle {
-            centre: centre(&mut r)?,
-            radius: r
-                .opt_f64("radius")?
-                .ok_or_else(|| at("a circle needs 'radius' (m)".into()))?,
-        },
-        "polygon" => Solid2Shape::Polygon(r.opt_points("outline")?.ok_or_else(|| {
-            at("a polygon needs 'outline', a list of [x, y] points (m)".into())
-        })?),
-        other => {
-            return Err(at(format!(
-                "unknown shape \"{other}\" (use \"plate\", \"circle\" or \"polygon\")"
-            )))
-        }
-    };
+    let shape =
+        match r.str_or("shape", "")?.as_str() {
+            "plate" => Solid2Shape::Plate {
+                centre: centre(&mut r)?,
+                length: r
+                    .opt_f64("length")?
+                    .ok_or_else(|| at("a plate needs 'length' (m)".into()))?,
+                thickness: r
+                    .opt_f64("thickness")?
+                    .ok_or_else(|| at("a plate needs 'thickness' (m)".into()))?,
+                angle_deg: r.f64_or("angle", 0.0)?,
+            },
+            "circle" => Solid2Shape::Circle {
+                centre: centre(&mut r)?,
+                radius: r
+                    .opt_f64("radius")?
+                    .ok_or_else(|| at("a circle needs 'radius' (m)".into()))?,
+            },
+            "polygon" => Solid2Shape::Polygon(r.opt_points("outline")?.ok_or_else(|| {
+                at("a polygon needs 'outline', a list of [x, y] points (m)".into())
+            })?),
+            other => {
+                return Err(at(format!(
+                    "unknown shape \"{other}\" (use \"plate\", \"circle\" or \"polygon\")"
+                )))
+            }
+        };
     r.finish().map_err(at)?;
     Ok(Solid2 { name, shape })
 }

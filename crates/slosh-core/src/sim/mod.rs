@@ -13,6 +13,7 @@ use crate::stages::*;
 use crate::sweep::*;
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
+use state::settle_into_compression;
 
 /// A position, velocity or force vector in D dimensions.
 pub type Vector<const D: usize> = SVector<f64, D>;
@@ -276,6 +277,15 @@ impl<const D: usize> Simulation<D> {
             eos_sound_speed: sound_speed,
         };
 
+        let mut setup = setup;
+        if params.density == crate::params::DensityMethod::Continuity {
+            settle_into_compression(
+                &mut setup.fluid_positions,
+                setup.fill_level,
+                setup.interior_min[D - 1],
+                &params,
+            );
+        }
         // Domain: the bounding box of all particles, with room above for waves in open tanks.
         let mut lo = setup.interior_min;
         let mut hi = setup.interior_max;

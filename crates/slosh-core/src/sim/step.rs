@@ -90,15 +90,16 @@ impl<const D: usize> Simulation<D> {
         Ok(())
     }
 
-    /// The state a run starts from: with continuity density the fluid starts at the
-    /// hydrostatic density of its depth below the fill level (no settling pressure wave);
-    /// then the density and wall stages under gravity alone.
+    /// The state a run starts from: with continuity density the fluid (already sunk into its
+    /// compression, [`settle_into_compression`]) starts at the hydrostatic density of its depth
+    /// below the still level (no settling pressure wave); then the density and wall stages
+    /// under gravity alone.
     pub(crate) fn initial_state(&mut self) {
         let c = self.constants;
         if matches!(self.plan.density, DensityStage::Continuity { .. }) {
             let (g, level, inv_gamma) = (
                 self.params.gravity,
-                self.fill_level,
+                self.still_level_cached,
                 self.buffers.k.inv_gamma,
             );
             for ((rho, inv), (x, p)) in self
