@@ -60,7 +60,9 @@ const FORCED_GAP: &str = "the free-decay row of this cylinder measures a numeric
     ζ = 2.2 % at 24 particles per radius (2D sections at the same resolution: 0.6–0.75 %); \
     undamped linear theory keeps the free transient the SPH damps over the 19.6 s (3.8 \
     periods) — the suspected cause, not yet tested; the damping is the fidelity work's \
-    subject";
+    subject. Measured (25.3 %) before the liquid started in its own compression: until then \
+    the wall gauges read the 5 cm the still surface sinks under 13 m (c0 = 10 √(g H_ref)) as \
+    a standing elevation, a share of this difference not yet re-measured";
 /// EN 1998-4 (Annex A) assumes 0.5 % damping for the convective mode.
 const EC8_CONVECTIVE_DAMPING: f64 = 0.005;
 
