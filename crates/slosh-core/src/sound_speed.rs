@@ -61,36 +61,60 @@ impl SoundSpeedChoice {
     }
 }
 
-/// Height (m) a column of `depth` m of Tait liquid keeps under its own weight, with bottom
-/// pressure p_b = ρ0 g H and dz = dp/(ρ g), ρ = ρ0 (1 + p/B)^(1/γ):
-/// H' = B γ / (ρ0 g (γ − 1)) [(1 + p_b/B)^((γ−1)/γ) − 1]  (≈ H − ρ0 g H²/(2γB)).
-pub fn compressed_depth(
-    depth: f64,
-    eos_stiffness: f64,
-    eos_gamma: f64,
-    rest_density: f64,
-    gravity: f64,
-) -> f64 {
-    let (b, gamma, rho0, g) = (eos_stiffness, eos_gamma, rest_density, gravity);
-    let p_bottom = rho0 * g * depth;
-    b * gamma / (rho0 * g * (gamma - 1.0))
-        * ((1.0 + p_bottom / b).powf((gamma - 1.0) / gamma) - 1.0)
+/// A Tait liquid at rest under gravity (paper Eq. 18, p = B((ρ/ρ0)^γ − 1)): how far a
+/// column of it sinks under its own weight, and its pressure at a depth.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TaitColumn {
+    /// Stiffness B (Pa).
+    pub eos_stiffness: f64,
+    /// Exponent γ.
+    pub eos_gamma: f64,
+    /// Rest density ρ0 (kg/m³).
+    pub rest_density: f64,
+    /// Gravity g (m/s²).
+    pub gravity: f64,
 }
 
-/// Pressure (Pa) at `depth` m below the free surface of a Tait liquid at rest, the depth
-/// measured in the compressed liquid (dp/dz = ρ g with ρ = ρ0 (1 + p/B)^(1/γ)); the inverse
-/// of [`compressed_depth`]: p = B [(1 + ρ0 g z (γ−1)/(γ B))^(γ/(γ−1)) − 1] (≈ ρ0 g z (1 + ρ0 g z/(2γB))).
-pub fn tait_hydrostatic_pressure(
-    depth: f64,
-    eos_stiffness: f64,
-    eos_gamma: f64,
-    rest_density: f64,
-    gravity: f64,
-) -> f64 {
-    let (b, gamma, rho0, g) = (eos_stiffness, eos_gamma, rest_density, gravity);
-    // Floored at zero: far above the surface the pressure tends to −B, never to NaN.
-    let base = (1.0 + rho0 * g * depth * (gamma - 1.0) / (gamma * b)).max(0.0);
-    b * (base.powf(gamma / (gamma - 1.0)) - 1.0)
+impl TaitColumn {
+    /// The liquid of `params` (its stiffness as chosen or given).
+    pub fn of(params: &SphParams) -> Self {
+        TaitColumn {
+            eos_stiffness: params.eos_stiffness,
+            eos_gamma: params.eos_gamma,
+            rest_density: params.rest_density,
+            gravity: params.gravity,
+        }
+    }
+
+    /// Height (m) a column of `depth` m of the liquid keeps under its own weight, with bottom
+    /// pressure p_b = ρ0 g H and dz = dp/(ρ g), ρ = ρ0 (1 + p/B)^(1/γ):
+    /// H' = B γ / (ρ0 g (γ − 1)) [(1 + p_b/B)^((γ−1)/γ) − 1]  (≈ H − ρ0 g H²/(2γB)).
+    pub fn compressed_depth(&self, depth: f64) -> f64 {
+        let (b, gamma, rho0, g) = self.constants();
+        let p_bottom = rho0 * g * depth;
+        b * gamma / (rho0 * g * (gamma - 1.0))
+            * ((1.0 + p_bottom / b).powf((gamma - 1.0) / gamma) - 1.0)
+    }
+
+    /// Pressure (Pa) at `depth` m below the free surface, the depth measured in the compressed
+    /// liquid (dp/dz = ρ g); the inverse of [`TaitColumn::compressed_depth`], so the weight of
+    /// the liquid above: p = B [(1 + ρ0 g z (γ−1)/(γ B))^(γ/(γ−1)) − 1]
+    /// (≈ ρ0 g z (1 + ρ0 g z/(2γB))).
+    pub fn hydrostatic_pressure(&self, depth: f64) -> f64 {
+        let (b, gamma, rho0, g) = self.constants();
+        // Floored at zero: far above the surface the pressure tends to −B, never to NaN.
+        let base = (1.0 + rho0 * g * depth * (gamma - 1.0) / (gamma * b)).max(0.0);
+        b * (base.powf(gamma / (gamma - 1.0)) - 1.0)
+    }
+
+    fn constants(&self) -> (f64, f64, f64, f64) {
+        (
+            self.eos_stiffness,
+            self.eos_gamma,
+            self.rest_density,
+            self.gravity,
+        )
+    }
 }
 
 /// Chooses c0 and B for a tank with still depth `depth` (m) whose interior rises
@@ -146,7 +170,11 @@ pub fn choose_sound_speed(
             "eos_stiffness must be a positive number (got {eos_stiffness})"
         )));
     }
-    let kept = compressed_depth(depth.max(0.0), eos_stiffness, gamma, rho0, g);
+    let column = TaitColumn {
+        eos_stiffness,
+        ..TaitColumn::of(params)
+    };
+    let kept = column.compressed_depth(depth.max(0.0));
     let compression = (depth - kept).max(0.0);
     let fraction = if depth > 0.0 {
         compression / depth
@@ -238,16 +266,21 @@ mod tests {
     /// compression), and dp/dz = ρ g on the way down (central difference, 1 mm steps).
     #[test]
     fn hydrostatic_pressure_is_the_weight_above() {
-        let (b, gamma, rho0, g) = (1.013e5, 7.0, 1000.0, 9.81);
+        let (rho0, g) = (1000.0, 9.81);
+        let column = TaitColumn {
+            eos_stiffness: 1.013e5,
+            eos_gamma: 7.0,
+            rest_density: rho0,
+            gravity: g,
+        };
         for fill in [0.5, 5.0, 20.0] {
-            let z = compressed_depth(fill, b, gamma, rho0, g);
-            let p = tait_hydrostatic_pressure(z, b, gamma, rho0, g);
+            let z = column.compressed_depth(fill);
+            let p = column.hydrostatic_pressure(z);
             assert!((p / (rho0 * g * fill) - 1.0).abs() < 1e-12, "{fill}: {p}");
             let dz = 1e-3;
-            let slope = (tait_hydrostatic_pressure(z + dz, b, gamma, rho0, g)
-                - tait_hydrostatic_pressure(z - dz, b, gamma, rho0, g))
+            let slope = (column.hydrostatic_pressure(z + dz) - column.hydrostatic_pressure(z - dz))
                 / (2.0 * dz);
-            let rho = rho0 * (1.0 + p / b).powf(1.0 / gamma);
+            let rho = rho0 * (1.0 + p / column.eos_stiffness).powf(1.0 / column.eos_gamma);
             assert!((slope / (rho * g) - 1.0).abs() < 1e-8, "{fill}: {slope}");
         }
     }

@@ -265,7 +265,7 @@ fn modern_hydrostatics() {
 
 /// Continuity density starts the liquid in its own Tait compression: the volume the particles
 /// occupy, Σ m/ρ, is the width times the compressed height H' of the column (closed form,
-/// `compressed_depth`), within 1e-6 (the midpoint rule over each particle's slab, an error of
+/// `TaitColumn::compressed_depth`), within 1e-6 (the midpoint rule over each particle's slab, an error of
 /// order (dx/H)² (ρ0 g H/B)², far below); the top row stands dx/2 of compressed liquid under
 /// the still level, and each particle's pressure is ρ0 g times the fill depth above its
 /// lattice row (the weight above it). The paper's stiffness in a 0.5 m tank compresses it by
@@ -276,15 +276,8 @@ fn liquid_starts_in_its_own_compression() {
     let setup = box_tank::<2>([width, 0.4], depth, 0.0, dx);
     let sim = Simulation::new(setup, modern_params()).unwrap();
     let p = sim.params();
-    let compressed = |d: f64| {
-        crate::sound_speed::compressed_depth(
-            d,
-            p.eos_stiffness,
-            p.eos_gamma,
-            p.rest_density,
-            p.gravity,
-        )
-    };
+    let column = crate::sound_speed::TaitColumn::of(p);
+    let compressed = |d: f64| column.compressed_depth(d);
     let f = sim.fluid();
     let volume: f64 = f.density.iter().map(|rho| sim.particle_mass() / rho).sum();
     let expected = width * compressed(depth);

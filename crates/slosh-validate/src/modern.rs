@@ -4,7 +4,7 @@
 //! `dambreak.rs` beside the paper scheme's.
 
 use super::run::{
-    fitted_slope, max_in_window, rect_sim_with, rms, Context, Runner, Scheme, SineExcitation,
+    hydrostatic_fit, max_in_window, rect_sim_with, rms, Context, Runner, Scheme, SineExcitation,
     GRAVITY, RHO,
 };
 use super::sloshing::running_mean;
@@ -385,22 +385,7 @@ fn forced_run(
     let mut hydro: Option<(f64, f64)> = None;
     runner.run_until(SETTLE + excitation_time, |sim| {
         if hydro.is_none() && sim.time() >= SETTLE {
-            let f = sim.fluid();
-            let reference: Vec<f64> = f
-                .position
-                .iter()
-                .map(|p| RHO * GRAVITY * (still - p.y))
-                .collect();
-            // dp/d(ρ0 g d) with an intercept: independent of where the zero of d (the still
-            // level) is put.
-            let slope = fitted_slope(&reference, &f.pressure);
-            let n = reference.len() as f64;
-            let ss: f64 = reference
-                .iter()
-                .zip(&f.pressure)
-                .map(|(a, b)| (a - b) * (a - b))
-                .sum();
-            hydro = Some((slope, (ss / n).sqrt() / (RHO * GRAVITY * still)));
+            hydro = Some(hydrostatic_fit(sim, still));
         }
     })?;
     let (slope, scatter) = hydro.unwrap_or((f64::NAN, f64::NAN));

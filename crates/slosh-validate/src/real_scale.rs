@@ -4,7 +4,9 @@
 //! 24 m cylinder against potential theory, with the numerical damping beside EN 1998-4's
 //! 0.5 %; a forced real-scale cylinder against the linear modal solution and Housner.
 
-use super::run::{fitted_slope, interpolate, rms, Context, Runner, SineExcitation, GRAVITY, RHO};
+use super::run::{
+    fitted_slope, hydrostatic_fit, interpolate, rms, Context, Runner, SineExcitation, GRAVITY, RHO,
+};
 use super::three_d::{cylinder_forced_inner, free_run, ForcedCylinder};
 use super::{
     failed_run, fmt_num, info_row, open_if_failed, relative_check, stayed_inside, Check,
@@ -57,7 +59,7 @@ const PAPER_LEVEL_GAP: &str = "the paper scheme's summation density starts from 
     lattice at ρ0 and its surface rows sit below the Tait level by a further ≈ 0.2 %";
 /// What is known of a real-scale forced comparison beyond the laboratory tolerance.
 const FORCED_GAP: &str = "the free-decay row of this cylinder measures a numerical damping \
-    ζ = 2.2 % at 24 particles per radius (2D sections at the same resolution: 0.6–0.75 %); \
+    ζ = 2.2 % at 24 particles per radius (2D sections at the same resolution: 0.37–0.44 %); \
     undamped linear theory keeps the free transient the SPH damps over the 19.6 s (3.8 \
     periods) — the suspected cause, not yet tested; the damping is the fidelity work's \
     subject. Measured (25.3 %) before the liquid started in its own compression: until then \
@@ -293,7 +295,7 @@ pub fn hydrostatics_at_depth(ctx: &Context) -> GroupResult {
                     if sim.time() >= settle - HYDROSTATIC_AVERAGE && step % 10 == 0 {
                         let sample = [
                             side_wall_slope(sim, predicted),
-                            particle_pressure_slope(sim, predicted),
+                            hydrostatic_fit(sim, predicted).0,
                             floor_force_over_weight(sim),
                         ];
                         for (s, v) in sums.iter_mut().zip(sample) {
@@ -399,17 +401,6 @@ pub fn hydrostatics_at_depth(ctx: &Context) -> GroupResult {
          from hydrostatic densities. Depth d below the still level the Tait EOS predicts."
     ));
     g
-}
-
-/// Least-squares slope of the fluid particles' pressures against ρ0 g (still − z).
-fn particle_pressure_slope(sim: &Simulation<2>, still: f64) -> f64 {
-    let f = sim.fluid();
-    let reference: Vec<f64> = f
-        .position
-        .iter()
-        .map(|p| RHO * GRAVITY * (still - p.y))
-        .collect();
-    fitted_slope(&reference, &f.pressure)
 }
 
 /// Vertical force of the liquid on the floor (time-windowed wall pressures) over its weight:

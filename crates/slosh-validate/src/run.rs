@@ -351,6 +351,26 @@ pub fn zero_crossings(ts: &[f64], ys: &[f64], band: f64) -> Vec<(f64, i8)> {
     out
 }
 
+/// The fluid particles' pressures against the hydrostatic ρ0 g (still − z) below the level
+/// `still` (m): the least-squares slope dp/d(ρ0 g d) (with an intercept, so independent of
+/// where the zero of d is put) and the RMS departure over ρ0 g still.
+pub fn hydrostatic_fit(sim: &Simulation<2>, still: f64) -> (f64, f64) {
+    let f = sim.fluid();
+    let reference: Vec<f64> = f
+        .position
+        .iter()
+        .map(|p| RHO * GRAVITY * (still - p.y))
+        .collect();
+    let slope = fitted_slope(&reference, &f.pressure);
+    let n = reference.len() as f64;
+    let ss: f64 = reference
+        .iter()
+        .zip(&f.pressure)
+        .map(|(a, b)| (a - b) * (a - b))
+        .sum();
+    (slope, (ss / n).sqrt() / (RHO * GRAVITY * still))
+}
+
 /// Least-squares slope of y on x with an intercept.
 pub fn fitted_slope(xs: &[f64], ys: &[f64]) -> f64 {
     let n = xs.len() as f64;

@@ -8,7 +8,7 @@ use crate::loads::LoadEvaluator;
 use crate::neighbours::{CellGrid, KdTreeSearch, NeighbourBackend, NeighbourSearch};
 use crate::params::{ArtificialSoundSpeed, SphParams};
 use crate::setup::{ParticleSetup, TankInterior};
-use crate::sound_speed::{choose_sound_speed, compressed_depth, SoundSpeedChoice};
+use crate::sound_speed::{choose_sound_speed, SoundSpeedChoice, TaitColumn};
 use crate::stages::*;
 use crate::sweep::*;
 use nalgebra::{SMatrix, SVector};
@@ -644,20 +644,12 @@ impl<const D: usize> Simulation<D> {
         self.fill_level
     }
     /// Height (m) of the free surface of this liquid at rest: the fill level lowered by the
-    /// compression of the Tait EOS under its own weight ([`compressed_depth`]). Wave
+    /// compression of the Tait EOS under its own weight ([`TaitColumn::compressed_depth`]). Wave
     /// elevations are measured from this level. Exact for walls that are vertical over the
     /// liquid depth.
     pub fn still_level(&self) -> f64 {
         let floor = self.interior_min[D - 1];
-        let p = &self.params;
-        floor
-            + compressed_depth(
-                self.fill_level - floor,
-                p.eos_stiffness,
-                p.eos_gamma,
-                p.rest_density,
-                p.gravity,
-            )
+        floor + TaitColumn::of(&self.params).compressed_depth(self.fill_level - floor)
     }
 
     /// Bounding box of the tank interior (m).

@@ -3,7 +3,7 @@
 use crate::kernel::Kernel;
 use crate::params::{DensityDiffusion, DensityMethod, Integrator, SphParams};
 use crate::sim::*;
-use crate::sound_speed::{compressed_depth, tait_hydrostatic_pressure};
+use crate::sound_speed::TaitColumn;
 
 /// Chunk length for rayon loops: large enough to amortise scheduling.
 pub(crate) const PAR_CHUNK: usize = 256;
@@ -241,17 +241,22 @@ impl PassConstants {
 
 /// Hydrostatic Tait density at depth d (m) below the still level z_s of the compressed
 /// liquid: ρ0 (1 + p/B)^(1/γ) with p the exact hydrostatic pressure there
-/// ([`tait_hydrostatic_pressure`], the weight of the liquid above).
+/// ([`TaitColumn::hydrostatic_pressure`], the weight of the liquid above).
 #[inline(always)]
 pub(crate) fn hydrostatic_density(c: &PassConstants, g: f64, inv_gamma: f64, depth: f64) -> f64 {
-    let p = tait_hydrostatic_pressure(depth, c.eos_stiffness, c.eos_gamma, c.rest_density, g);
-    c.density_of(p, inv_gamma)
+    let column = TaitColumn {
+        eos_stiffness: c.eos_stiffness,
+        eos_gamma: c.eos_gamma,
+        rest_density: c.rest_density,
+        gravity: g,
+    };
+    c.density_of(column.hydrostatic_pressure(depth), inv_gamma)
 }
 
 /// Moves liquid particles laid on the undistorted lattice (fill level `fill`, m, floor at
 /// `floor`, m) to where the Tait liquid sits at rest: each particle sinks by the compression
 /// of the liquid between it and the fill level, so that a particle under a fill depth d ends
-/// at [`compressed_depth`] (d) below the still level. With continuity density each particle
+/// at [`TaitColumn::compressed_depth`] (d) below the still level. With continuity density each particle
 /// keeps the density it starts with; starting from the hydrostatic density on the
 /// undistorted lattice, the particle volumes m/ρ would be smaller than the spacing by the
 /// compression, and the symmetric pressure gradient of Eq. 8 would balance gravity only with
@@ -263,15 +268,8 @@ pub(crate) fn settle_into_compression<const D: usize>(
     floor: f64,
     params: &SphParams,
 ) {
-    let sunk = |depth: f64| {
-        compressed_depth(
-            depth,
-            params.eos_stiffness,
-            params.eos_gamma,
-            params.rest_density,
-            params.gravity,
-        )
-    };
+    let column = TaitColumn::of(params);
+    let sunk = |depth: f64| column.compressed_depth(depth);
     let still = floor + sunk(fill - floor);
     for x in positions {
         let depth = fill - x[D - 1];
