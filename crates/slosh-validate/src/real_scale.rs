@@ -52,8 +52,9 @@ const HYDROSTATIC_AVERAGE: f64 = 4.0;
 const SLOPE_GAP: &str = "the paper scheme's particle pressures follow ρ0 g d (their slope is \
     within 1 %), but the wall load it reports is read from the pressure of its dynamic wall \
     particles (summed density, docs/scheme.md, Dynamic wall particles), which comes out 7–8 % \
-    below the liquid's on the side wall and the floor alike. The modern scheme (Adami wall pressure) meets 1 % \
-    since it starts in its own compression (docs/scheme.md, Continuity density)";
+    below the liquid's on the side wall and the floor alike. The modern scheme (Adami wall \
+    pressure) meets 1 % since it starts in its own compression (docs/scheme.md, Continuity \
+    density)";
 /// What is known of the paper scheme's still level beyond 0.5 %.
 const PAPER_LEVEL_GAP: &str = "the paper scheme's summation density starts from a uniform \
     lattice at ρ0 and its surface rows sit below the Tait level by a further ≈ 0.2 %";
@@ -398,7 +399,9 @@ pub fn hydrostatics_at_depth(ctx: &Context) -> GroupResult {
         "Open 2D tank {width} m wide, shell {shell} m, {depth} m of water, dx = {dx} m \
          (40 particles per depth), no excitation, {settle:.1} s at rest (the paper's 2 s in \
          Froude time); the paper scheme starts from a uniform lattice at ρ0, the modern one \
-         from hydrostatic densities. Depth d below the still level the Tait EOS predicts."
+         from hydrostatic densities, sunk into its own Tait compression. Depth d below the \
+         still level the Tait EOS predicts; slopes and floor force averaged over the last \
+         {HYDROSTATIC_AVERAGE} s."
     ));
     g
 }
