@@ -308,8 +308,8 @@ fn at_most_check(group: &str, name: &str, measured: f64, limit: f64, reason: &st
 const DAMPING_GAP: &str = "measured on the first-mode amplitude both tanks meet the target at \
     20 per depth, and the decay is a clean exponential at every level (crest scatter ≤ 1.6 %); \
     at 30 and 40 per depth the scheme damps the first mode more than at 20, for a reason not \
-    known yet (not the density diffusion: δ = 0.05 changed ζ by a tenth; a lead: the liquid \
-    started on a square lattice gains kinetic energy at rest as the lattice rearranges; \
+    known yet (not the density diffusion: δ = 0.05 changed ζ by a tenth; not the square \
+    lattice's rearrangement at rest alone: its kinetic energy is 2–6 % of what the mode loses; \
     docs/validation.md)";
 /// What is known of the viscous gap.
 const VISCOUS_GAP: &str = "at 30 per depth the excess is not the viscous operator: the same \
