@@ -450,6 +450,13 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             ),
         ));
         all.push((
+            "sloshing damping: free decay in an upright cylinder",
+            one(
+                "Sloshing damping: free decay in a cylinder (modern scheme)",
+                damping::cylinder_free_decay,
+            ),
+        ));
+        all.push((
             "3D: cylinder period, forced cylinder",
             Box::new(three_d::cylinder_groups),
         ));

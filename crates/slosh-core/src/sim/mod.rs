@@ -33,8 +33,6 @@ pub(crate) enum Search<const D: usize> {
     KdTree(KdTreeSearch<D>),
 }
 
-/// Per-step constants of the passes.
-
 /// Wall-clock time spent in each phase of the step (s), summed over the run.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct PhaseTimes {
