@@ -142,10 +142,11 @@ fn tank_height(tank: &TankSpec) -> f64 {
     }
 }
 
-/// Builds the 2D particles of a 2D tank.
-pub fn build_2d(tank: &TankSpec, dx: f64) -> Result<ParticleSetup<2>> {
+/// Builds the 2D particles of a 2D tank with `layers` layers of wall particles (at least
+/// [`slosh_core::SphParams::wall_layers`] of the run's parameters).
+pub fn build_2d(tank: &TankSpec, dx: f64, layers: u8) -> Result<ParticleSetup<2>> {
     if let Some(section) = tank.section_tank().map_err(anyhow::Error::msg)? {
-        return Ok(section.build(dx)?);
+        return Ok(section.with_layers(layers).build(dx)?);
     }
     match tank {
         TankSpec::Rect {
@@ -166,15 +167,22 @@ pub fn build_2d(tank: &TankSpec, dx: f64) -> Result<ParticleSetup<2>> {
                 .with_layout(layout)
                 .with_initial_tilt(*tilt)
                 .with_initial_shape(initial_surface(tilt_shape))
+                .with_layers(layers)
                 .build(dx)?)
         }
         _ => bail!("internal: a 3D tank was handed to the 2D builder"),
     }
 }
 
-/// Builds the 3D particles of a 3D tank. A roof or tank mesh path is read through the script's
-/// `sandbox` (below its folder, its project folder or an `--allow-read` folder).
-pub fn build_3d(tank: &TankSpec, dx: f64, sandbox: &ReadSandbox) -> Result<ParticleSetup<3>> {
+/// Builds the 3D particles of a 3D tank with `layers` layers of wall particles (as
+/// [`build_2d`]). A roof or tank mesh path is read through the script's `sandbox` (below its
+/// folder, its project folder or an `--allow-read` folder).
+pub fn build_3d(
+    tank: &TankSpec,
+    dx: f64,
+    layers: u8,
+    sandbox: &ReadSandbox,
+) -> Result<ParticleSetup<3>> {
     match tank {
         TankSpec::Cylinder {
             radius,
@@ -199,7 +207,8 @@ pub fn build_3d(tank: &TankSpec, dx: f64, sandbox: &ReadSandbox) -> Result<Parti
             }
             let mut tank = CylinderTank::new(*radius, *height, *depth, roof)
                 .with_initial_tilt(*tilt)
-                .with_initial_shape(initial_surface(tilt_shape));
+                .with_initial_shape(initial_surface(tilt_shape))
+                .with_layers(layers);
             tank.solids = solids.clone();
             Ok(tank.build(dx)?)
         }
@@ -216,7 +225,8 @@ pub fn build_3d(tank: &TankSpec, dx: f64, sandbox: &ReadSandbox) -> Result<Parti
             let mut tank = BoxTank::new(*length, *breadth, *height, *depth)
                 .with_roof(*roof)
                 .with_initial_tilt(*tilt)
-                .with_initial_shape(initial_surface(tilt_shape));
+                .with_initial_shape(initial_surface(tilt_shape))
+                .with_layers(layers);
             tank.solids = solids.clone();
             Ok(tank.build(dx)?)
         }
@@ -231,7 +241,8 @@ pub fn build_3d(tank: &TankSpec, dx: f64, sandbox: &ReadSandbox) -> Result<Parti
             let path = sandbox.resolve(mesh).map_err(anyhow::Error::msg)?;
             let mut tank = MeshTank::new(path, *depth)
                 .with_initial_tilt(*tilt)
-                .with_initial_shape(initial_surface(tilt_shape));
+                .with_initial_shape(initial_surface(tilt_shape))
+                .with_layers(layers);
             tank.solids = solids.clone();
             Ok(tank.build(dx)?)
         }
@@ -243,6 +254,7 @@ pub fn build_3d(tank: &TankSpec, dx: f64, sandbox: &ReadSandbox) -> Result<Parti
         } => Ok(SphereTank::new(*radius, *depth)
             .with_initial_tilt(*tilt)
             .with_initial_shape(initial_surface(tilt_shape))
+            .with_layers(layers)
             .build(dx)?),
         TankSpec::Rect { .. } | TankSpec::Section { .. } => {
             bail!("internal: a 2D tank was handed to the 3D builder")

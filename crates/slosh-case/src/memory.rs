@@ -8,14 +8,12 @@ use slosh_script::TankSpec;
 /// `slosh bench` (particle arrays, neighbour lists, sweep buffers) with 50 % headroom for
 /// neighbour lists that grow in compressed or splashing flow and for the tank's build.
 const BYTES_PER_PARTICLE: [f64; 2] = [700.0, 1200.0];
-/// Wall particle layers of every tank.
-const WALL_LAYERS: f64 = 3.0;
-
-/// Particles (fluid, wall) a tank will have at spacing `dx` (m): the fluid volume over the
-/// lattice cell, and three wall layers over the boundary grown by the layers' mean offset
-/// (1.5 dx outwards), the roof counted when there is one.
-pub fn estimate_particles(tank: &TankSpec, dx: f64) -> (f64, f64) {
-    let grow = 0.5 * WALL_LAYERS * dx;
+/// Particles (fluid, wall) a tank will have at spacing `dx` (m) with `layers` wall layers: the
+/// fluid volume over the lattice cell, and the wall layers over the boundary grown by the
+/// layers' mean offset (layers/2 dx outwards), the roof counted when there is one.
+pub fn estimate_particles(tank: &TankSpec, dx: f64, layers: u8) -> (f64, f64) {
+    let wall_layers = f64::from(layers);
+    let grow = 0.5 * wall_layers * dx;
     match tank {
         TankSpec::Rect {
             width,
@@ -26,7 +24,7 @@ pub fn estimate_particles(tank: &TankSpec, dx: f64) -> (f64, f64) {
         } => {
             let (w, h) = (width + 2.0 * grow, height + 2.0 * grow);
             let perimeter = 2.0 * h + w * if *roof { 2.0 } else { 1.0 };
-            ((width / dx) * (depth / dx), WALL_LAYERS * perimeter / dx)
+            ((width / dx) * (depth / dx), wall_layers * perimeter / dx)
         }
         TankSpec::Sphere { radius, depth, .. } => {
             // bounded by the cylinder around the sphere
@@ -34,7 +32,7 @@ pub fn estimate_particles(tank: &TankSpec, dx: f64) -> (f64, f64) {
             let r = radius + grow;
             (
                 pi * radius * radius * depth / dx.powi(3),
-                WALL_LAYERS * 4.0 * pi * r * r / (dx * dx),
+                wall_layers * 4.0 * pi * r * r / (dx * dx),
             )
         }
         TankSpec::Section { outline, depth, .. } => {
@@ -42,7 +40,7 @@ pub fn estimate_particles(tank: &TankSpec, dx: f64) -> (f64, f64) {
             let (lo, hi) = outline.bounds();
             let (width, height) = (hi[0] - lo[0], hi[1] - lo[1]);
             let perimeter = 2.0 * (width + height + 4.0 * grow);
-            ((width / dx) * (depth / dx), WALL_LAYERS * perimeter / dx)
+            ((width / dx) * (depth / dx), wall_layers * perimeter / dx)
         }
         TankSpec::Mesh { depth, extent, .. } => {
             // fluid bounded by the mesh's bounding box; the wall area grown as a box's
@@ -51,7 +49,7 @@ pub fn estimate_particles(tank: &TankSpec, dx: f64) -> (f64, f64) {
             let area: f64 = extent.parts.iter().map(|p| p.1).sum();
             let h = extent.max[2] - extent.min[2];
             let grown = area + 8.0 * grow * (l + b + h);
-            (l * b * depth / dx.powi(3), WALL_LAYERS * grown / (dx * dx))
+            (l * b * depth / dx.powi(3), wall_layers * grown / (dx * dx))
         }
         TankSpec::Box {
             length,
@@ -69,7 +67,7 @@ pub fn estimate_particles(tank: &TankSpec, dx: f64) -> (f64, f64) {
             let area = 2.0 * (l + b) * h + l * b * if *roof { 2.0 } else { 1.0 };
             (
                 length * breadth * depth / dx.powi(3),
-                WALL_LAYERS * area / (dx * dx),
+                wall_layers * area / (dx * dx),
             )
         }
         TankSpec::Cylinder {
@@ -90,15 +88,15 @@ pub fn estimate_particles(tank: &TankSpec, dx: f64) -> (f64, f64) {
             };
             (
                 pi * radius * radius * depth / dx.powi(3),
-                WALL_LAYERS * (2.0 * pi * r * h + pi * r * r + roof_area) / (dx * dx),
+                wall_layers * (2.0 * pi * r * h + pi * r * r + roof_area) / (dx * dx),
             )
         }
     }
 }
 
-/// Bytes (estimated) of a run of `tank` at spacing `dx`.
-pub fn estimate_bytes(tank: &TankSpec, dx: f64) -> f64 {
-    let (fluid, wall) = estimate_particles(tank, dx);
+/// Bytes (estimated) of a run of `tank` at spacing `dx` with `layers` wall layers.
+pub fn estimate_bytes(tank: &TankSpec, dx: f64, layers: u8) -> f64 {
+    let (fluid, wall) = estimate_particles(tank, dx, layers);
     (fluid + wall) * BYTES_PER_PARTICLE[usize::from(tank.dim() == 3)]
 }
 
@@ -110,9 +108,15 @@ pub fn available_memory_bytes() -> Option<f64> {
     Some(kib * 1024.0)
 }
 
-/// Refuses a run whose estimated memory exceeds `max_bytes` (or, without it, the machine's
-/// available memory), naming the estimate and a dx that would fit.
-pub fn check_memory_budget(tank: &TankSpec, dx: f64, max_bytes: Option<f64>) -> Result<()> {
+/// Refuses a run of `tank` at spacing `dx` with `layers` wall layers whose estimated memory
+/// exceeds `max_bytes` (or, without it, the machine's available memory), naming the estimate
+/// and a dx that would fit.
+pub fn check_memory_budget(
+    tank: &TankSpec,
+    dx: f64,
+    layers: u8,
+    max_bytes: Option<f64>,
+) -> Result<()> {
     let (budget, what) = match max_bytes {
         Some(b) => (b, "--max-memory"),
         None => match available_memory_bytes() {
@@ -120,11 +124,11 @@ pub fn check_memory_budget(tank: &TankSpec, dx: f64, max_bytes: Option<f64>) -> 
             None => return Ok(()),
         },
     };
-    let need = estimate_bytes(tank, dx);
+    let need = estimate_bytes(tank, dx, layers);
     if need <= budget {
         return Ok(());
     }
-    let (fluid, wall) = estimate_particles(tank, dx);
+    let (fluid, wall) = estimate_particles(tank, dx, layers);
     let dim = tank.dim() as f64;
     // Particles go as dx^−D: the dx that fits, with 5 % to spare.
     let dx_fit = dx * (need / budget).powf(1.0 / dim) * 1.05;
@@ -157,18 +161,21 @@ mod tests {
     }
 
     /// The counts of the bench's 3D cylinder (dx = 0.018 m, flat roof: 68,096 fluid + 35,820
-    /// wall particles built by `slosh run scripts/cylinder_3d.rhai --set dx=0.018`) within
-    /// 10 %: the lattice staircase of the curved wall is the difference.
+    /// wall particles in three layers, 48,832 in four, built by `slosh bench --case 3d-100k`
+    /// with the paper and the modern scheme) within 10 %: the lattice staircase of the curved
+    /// wall is the difference.
     #[test]
     fn estimate_matches_a_built_tank() {
-        let (fluid, wall) = estimate_particles(&cylinder(), 0.018);
+        let (fluid, wall) = estimate_particles(&cylinder(), 0.018, 3);
         assert!((fluid / 68_096.0 - 1.0).abs() < 0.1, "{fluid}");
         assert!((wall / 35_820.0 - 1.0).abs() < 0.1, "{wall}");
+        let (_, wall) = estimate_particles(&cylinder(), 0.018, 4);
+        assert!((wall / 48_832.0 - 1.0).abs() < 0.1, "{wall}");
     }
 
     #[test]
     fn a_run_beyond_the_budget_is_refused_with_a_dx_that_fits() {
-        let err = check_memory_budget(&cylinder(), 1e-5, Some(8e9)).unwrap_err();
+        let err = check_memory_budget(&cylinder(), 1e-5, 3, Some(8e9)).unwrap_err();
         let text = err.to_string();
         assert!(
             text.contains("--max-memory") && text.contains("use dx ≥"),
@@ -180,7 +187,7 @@ mod tests {
             .and_then(|t| t.split(' ').next())
             .and_then(|t| t.parse().ok())
             .unwrap();
-        assert!(check_memory_budget(&cylinder(), dx_fit, Some(8e9)).is_ok());
-        assert!(check_memory_budget(&cylinder(), 0.02, Some(8e9)).is_ok());
+        assert!(check_memory_budget(&cylinder(), dx_fit, 3, Some(8e9)).is_ok());
+        assert!(check_memory_budget(&cylinder(), 0.02, 3, Some(8e9)).is_ok());
     }
 }

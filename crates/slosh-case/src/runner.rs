@@ -70,7 +70,12 @@ fn build_and_run(
     stop: &mut dyn StopRequest,
 ) -> Result<Summary> {
     let fit = build::fit_to_lattice(&case.tank, case.dx)?;
-    crate::memory::check_memory_budget(&fit.tank, fit.dx, opts.max_memory_bytes)?;
+    crate::memory::check_memory_budget(
+        &fit.tank,
+        fit.dx,
+        case.sph.wall_layers(),
+        opts.max_memory_bytes,
+    )?;
     let mut sph = case.sph.clone();
     if let SoundSpeedRule::FromCase { coefficient, .. } = sph.sound_speed {
         let flow_speed = case.excitation_speed()?;
@@ -81,12 +86,12 @@ fn build_and_run(
     }
     match case.dim() {
         2 => {
-            let setup = build::build_2d(&fit.tank, fit.dx)?;
+            let setup = build::build_2d(&fit.tank, fit.dx, sph.wall_layers())?;
             let sim = Simulation::<2>::new(setup, sph)?;
             run_built(sim, case, fit, opts, stop)
         }
         _ => {
-            let setup = build::build_3d(&fit.tank, fit.dx, &case.sandbox)?;
+            let setup = build::build_3d(&fit.tank, fit.dx, sph.wall_layers(), &case.sandbox)?;
             let sim = Simulation::<3>::new(setup, sph)?;
             run_built(sim, case, fit, opts, stop)
         }

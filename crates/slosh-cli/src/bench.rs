@@ -366,19 +366,24 @@ pub fn run_bench(cases: &[BenchCase], config: &BenchConfig, out: &Path) -> Resul
         for backend in backends {
             let new_rows = match case.tank {
                 BenchTank::PaperRect2 => {
-                    run_case::<2>(case, backend, config, &pools, &version, || {
-                        Ok(RectTank2::new(1.0, 1.0, 0.5).build(case.dx)?)
+                    run_case::<2>(case, backend, config, &pools, &version, |layers| {
+                        Ok(RectTank2::new(1.0, 1.0, 0.5)
+                            .with_layers(layers)
+                            .build(case.dx)?)
                     })
                 }
                 BenchTank::Cylinder3 => {
-                    run_case::<3>(case, backend, config, &pools, &version, || {
-                        Ok(CylinderTank::new(0.5, 0.6, 0.5, Roof::Flat).build(case.dx)?)
+                    run_case::<3>(case, backend, config, &pools, &version, |layers| {
+                        Ok(CylinderTank::new(0.5, 0.6, 0.5, Roof::Flat)
+                            .with_layers(layers)
+                            .build(case.dx)?)
                     })
                 }
                 BenchTank::RealCylinder3 => {
-                    run_case::<3>(case, backend, config, &pools, &version, || {
+                    run_case::<3>(case, backend, config, &pools, &version, |layers| {
                         Ok(
                             CylinderTank::new(12.0, 16.0, 13.0, Roof::Cone { apex_height: 1.5 })
+                                .with_layers(layers)
                                 .build(case.dx)?,
                         )
                     })
@@ -428,14 +433,15 @@ fn advance<const D: usize>(sim: &mut Simulation<D>, steps: usize) -> Result<()> 
     Ok(())
 }
 
-/// Builds one (case, backend), warms it up in the first pool, then times it in every pool.
+/// Builds one (case, backend) with `build(wall layers)`, warms it up in the first pool, then
+/// times it in every pool.
 fn run_case<const D: usize>(
     case: &BenchCase,
     backend: NeighbourBackend,
     config: &BenchConfig,
     pools: &[ThreadPool],
     version: &str,
-    build: impl Fn() -> Result<ParticleSetup<D>> + Send + Sync,
+    build: impl Fn(u8) -> Result<ParticleSetup<D>> + Send + Sync,
 ) -> Result<Vec<BenchRow>> {
     reset_peak_rss();
     let rss_before = proc_status_kib("VmRSS:").unwrap_or(0) as f64 * 1024.0;
@@ -461,7 +467,7 @@ fn run_case<const D: usize>(
         ..base
     };
     let mut sim = pools[0].install(|| -> Result<Simulation<D>> {
-        let mut sim = Simulation::new(build()?, params)?;
+        let mut sim = Simulation::new(build(params.wall_layers())?, params)?;
         advance(&mut sim, WARMUP_STEPS)?;
         Ok(sim)
     })?;

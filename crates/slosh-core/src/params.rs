@@ -312,8 +312,13 @@ impl SphParams {
     /// The "modern" preset (`scheme = "modern"`), built from the practice of today's
     /// engineering SPH codes: continuity density with Fourtakas et al. (2019) δ-SPH diffusion
     /// (δ = 0.1), Adami, Hu & Adams (2012) generalised walls (free slip), Wendland C2 with
-    /// h = 1.5 dx (support 3 dx, the thickness of the three wall layers; at h = 1.3 dx the
-    /// measured sloshing period came out 4–6 % short), symplectic position Verlet with the
+    /// h = 2 dx (support 4 dx, four wall layers), the ratio of the δ-SPH literature (Marrone et
+    /// al. 2011, *Comput. Methods Appl. Mech. Engrg.* 200, 1526–1542; Antuono, Colagrossi &
+    /// Marrone 2012): with h = 1.5 dx a free first mode lost a nearly fixed amplitude per cycle
+    /// (ζ 0.45–1.0 % at 40 particles per depth, larger for smaller waves) and its period came
+    /// out 0.7–0.9 % short; with h = 2 dx ζ ≈ 0.2–0.25 % at 20–40 per depth, the same for small
+    /// and large waves, and the period within 0.4 % (`docs/validation.md`); at h = 1.3 dx the
+    /// period came out 4–6 % short), symplectic position Verlet with the
     /// CFL- and force-limited variable dt, artificial viscosity without its linear term (α = 0)
     /// and with Monaghan's quadratic term β = 3 (the small-jump limit of the low-dissipation
     /// Riemann limiter of Zhang, Hu & Adams 2017, *J. Comput. Phys.* 335, 605–620: a
@@ -328,7 +333,7 @@ impl SphParams {
         let base = SphParams::default();
         SphParams {
             kernel: KernelKind::WendlandC2,
-            smoothing_ratio: 1.5,
+            smoothing_ratio: 2.0,
             density: DensityMethod::Continuity,
             density_diffusion: DensityDiffusion::Fourtakas { delta: 0.1 },
             boundary: BoundaryMethod::Adami,
@@ -359,6 +364,15 @@ impl SphParams {
         self.density == DensityMethod::Continuity
             || self.boundary == BoundaryMethod::Adami
             || self.integrator == Integrator::Symplectic
+    }
+
+    /// Layers of wall particles a wall needs so that a fluid particle half a spacing from the
+    /// wall face finds wall particles over the kernel's whole support 2h: the deepest layer
+    /// lies (n − ½) dx behind the face, so n ≥ 2h/dx, and never fewer than the paper's three.
+    pub fn wall_layers(&self) -> u8 {
+        let reach = 2.0 * self.smoothing_ratio;
+        // The tolerance keeps h = 1.5 dx (support 3 dx) at three layers despite round-off.
+        ((reach - 1e-9).ceil().max(3.0)).min(u8::MAX as f64) as u8
     }
 
     /// Speed of sound of the Tait EOS for the stiffness as it stands, c0 = √(γ B / ρ0) (m/s).

@@ -23,7 +23,29 @@ pub fn box_tank<const D: usize>(
     tilt: f64,
     dx: f64,
 ) -> ParticleSetup<D> {
-    let layers = 3i64;
+    box_tank_with_layers(size, depth, tilt, dx, 3)
+}
+
+/// [`box_tank`] with as many wall layers as `params` need ([`SphParams::wall_layers`]).
+pub fn box_tank_for<const D: usize>(
+    params: &crate::SphParams,
+    size: [f64; D],
+    depth: f64,
+    tilt: f64,
+    dx: f64,
+) -> ParticleSetup<D> {
+    box_tank_with_layers(size, depth, tilt, dx, params.wall_layers())
+}
+
+/// [`box_tank`] with `layers` wall layers.
+pub fn box_tank_with_layers<const D: usize>(
+    size: [f64; D],
+    depth: f64,
+    tilt: f64,
+    dx: f64,
+    layers: u8,
+) -> ParticleSetup<D> {
+    let layers = i64::from(layers);
     let mut counts = [0i64; D];
     for k in 0..D {
         counts[k] = (size[k] / dx).round() as i64;

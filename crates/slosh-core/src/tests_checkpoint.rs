@@ -5,7 +5,7 @@
 //! of density, position and velocity, wall densities, the largest wall pressure) and the
 //! load peaks must be identical.
 
-use crate::test_tank::box_tank;
+use crate::test_tank::{box_tank, box_tank_for};
 use crate::tests_golden::configurations;
 use crate::tests_modern::fingerprint;
 use crate::{NeighbourBackend, SimState, Simulation, SphParams, Vector};
@@ -26,9 +26,15 @@ fn ground<const D: usize>(t: f64) -> Vector<D> {
 fn run<const D: usize>(params: &SphParams, steps: u64, stop: Option<u64>) -> (Vec<u64>, Vec<u64>) {
     let setup = || {
         if D == 2 {
-            box_tank::<D>(std::array::from_fn(|_| 0.4), 0.2, 0.02, 0.02)
+            box_tank_for::<D>(params, std::array::from_fn(|_| 0.4), 0.2, 0.02, 0.02)
         } else {
-            box_tank::<D>(std::array::from_fn(|k| [0.2, 0.1, 0.2][k]), 0.1, 0.01, 0.02)
+            box_tank_for::<D>(
+                params,
+                std::array::from_fn(|k| [0.2, 0.1, 0.2][k]),
+                0.1,
+                0.01,
+                0.02,
+            )
         }
     };
     let mut sim = Simulation::new(setup(), params.clone()).unwrap();

@@ -1,7 +1,7 @@
 //! Checks of the switchable "modern" scheme parts against the paper scheme, and the
 //! guard that the paper scheme (`SphParams::default()`) stays bit-for-bit what it was.
 
-use crate::test_tank::box_tank;
+use crate::test_tank::box_tank_for;
 use crate::{Simulation, SphParams, Vector};
 
 /// Fingerprint of a run: serial sums (in original particle order) of density, position and
@@ -41,7 +41,13 @@ pub(crate) fn fingerprint<const D: usize>(sim: &Simulation<D>) -> Vec<u64> {
 }
 
 fn paper_run_2d() -> Vec<u64> {
-    let setup = box_tank::<2>([0.4, 0.4], 0.2, 0.02, 0.02);
+    let setup = box_tank_for::<2>(
+        &SphParams::default().with_paper_stiffness(),
+        [0.4, 0.4],
+        0.2,
+        0.02,
+        0.02,
+    );
     let mut sim = Simulation::new(setup, SphParams::default().with_paper_stiffness()).unwrap();
     for _ in 0..300 {
         let t = sim.time();
@@ -52,7 +58,13 @@ fn paper_run_2d() -> Vec<u64> {
 }
 
 fn paper_run_3d() -> Vec<u64> {
-    let setup = box_tank::<3>([0.2, 0.1, 0.2], 0.1, 0.01, 0.02);
+    let setup = box_tank_for::<3>(
+        &SphParams::default().with_paper_stiffness(),
+        [0.2, 0.1, 0.2],
+        0.1,
+        0.01,
+        0.02,
+    );
     let mut sim = Simulation::new(setup, SphParams::default().with_paper_stiffness()).unwrap();
     for _ in 0..100 {
         let t = sim.time();
@@ -140,7 +152,7 @@ pub(crate) fn free_sloshing_period(
     depth: f64,
     dx: f64,
 ) -> (f64, f64, f64) {
-    let setup = box_tank::<2>([width, 2.0 * depth], depth, 0.02, dx);
+    let setup = box_tank_for::<2>(&params, [width, 2.0 * depth], depth, 0.02, dx);
     let mut sim = Simulation::new(setup, params).unwrap();
     let h_still = sim.still_level();
     let theory = 2.0 * std::f64::consts::PI / omega1(width, h_still, sim.params().gravity);
@@ -174,7 +186,7 @@ pub(crate) fn free_sloshing_period(
 /// least-squares slope of p against ρ0 g d (d below the still level) and the RMS of
 /// p − ρ0 g d over all fluid particles, normalised by ρ0 g H.
 pub(crate) fn hydrostatics(params: SphParams, t_end: f64) -> (f64, f64) {
-    let setup = box_tank::<2>([1.0, 1.0], 0.5, 0.0, 0.02);
+    let setup = box_tank_for::<2>(&params, [1.0, 1.0], 0.5, 0.0, 0.02);
     let mut sim = Simulation::new(setup, params).unwrap();
     while sim.time() < t_end {
         sim.step(Vector::<2>::zeros()).unwrap();
@@ -199,7 +211,7 @@ pub(crate) fn hydrostatics(params: SphParams, t_end: f64) -> (f64, f64) {
 /// ω = 5.311 rad/s) after `settle` s at rest: largest crest at the left wall during each
 /// of the excitation windows ending at `marks` (s of excitation).
 fn resonant_crests(params: SphParams, settle: f64, marks: &[f64]) -> Vec<f64> {
-    let setup = box_tank::<2>([1.0, 1.0], 0.5, 0.0, 0.02);
+    let setup = box_tank_for::<2>(&params, [1.0, 1.0], 0.5, 0.0, 0.02);
     let mut sim = Simulation::new(setup, params).unwrap();
     let level = sim.still_level();
     let (a, w) = (0.0093, 5.311);
@@ -273,7 +285,7 @@ fn modern_hydrostatics() {
 #[test]
 fn liquid_starts_in_its_own_compression() {
     let (width, depth, dx) = (0.4, 0.2, 0.02);
-    let setup = box_tank::<2>([width, 0.4], depth, 0.0, dx);
+    let setup = box_tank_for::<2>(&modern_params(), [width, 0.4], depth, 0.0, dx);
     let sim = Simulation::new(setup, modern_params()).unwrap();
     let p = sim.params();
     let column = crate::sound_speed::TaitColumn::of(p);
@@ -405,7 +417,7 @@ fn explore_switches_hydrostatic() {
         ),
     ];
     for (name, p) in variants {
-        let setup = box_tank::<2>([1.0, 1.0], 0.5, 0.0, 0.02);
+        let setup = box_tank_for::<2>(&p, [1.0, 1.0], 0.5, 0.0, 0.02);
         let mut sim = Simulation::new(setup, p).unwrap();
         while sim.time() < 0.6 {
             sim.step(Vector::<2>::zeros()).unwrap();
@@ -465,7 +477,7 @@ fn explore_drift() {
         },
         _ => m,
     };
-    let setup = box_tank::<2>([1.0, 1.0], 0.5, 0.0, 0.02);
+    let setup = box_tank_for::<2>(&p, [1.0, 1.0], 0.5, 0.0, 0.02);
     let mut sim = Simulation::new(setup, p).unwrap();
     let mut next = 0.0;
     while sim.time() < 2.0 {
@@ -626,4 +638,33 @@ fn explore_candidate() {
     );
     let crests = resonant_crests(p, 0.5, &[2.0]);
     eprintln!("{which} resonant crest at 2 s: {crests:.4?}");
+}
+
+/// A fluid particle half a spacing from a wall needs wall particles over its whole support
+/// 2h: three layers for the paper's h = 1.3 dx and for h = 1.5 dx, four for the modern
+/// preset's h = 2 dx, five for h = 2.2 dx; a tank whose walls are thinner than that is refused
+/// with the number of layers to build, not run with a wall the liquid can pass through.
+#[test]
+fn walls_thinner_than_the_kernel_support_are_refused() {
+    let with_h = |r: f64| SphParams {
+        smoothing_ratio: r,
+        ..SphParams::modern()
+    };
+    assert_eq!(SphParams::paper().wall_layers(), 3);
+    assert_eq!(with_h(1.5).wall_layers(), 3);
+    assert_eq!(SphParams::modern().wall_layers(), 4);
+    assert_eq!(with_h(2.2).wall_layers(), 5);
+    let thin = crate::test_tank::box_tank::<2>([0.4, 0.4], 0.2, 0.0, 0.02);
+    match Simulation::new(thin, modern_params()) {
+        Err(crate::SimError::InvalidSetup(msg)) => {
+            assert!(
+                msg.contains("3 particle layers") && msg.contains("at least 4"),
+                "{msg}"
+            )
+        }
+        Err(e) => panic!("unexpected error {e}"),
+        Ok(_) => panic!("walls of 3 layers were accepted with a support of 4 dx"),
+    }
+    let thick = box_tank_for::<2>(&modern_params(), [0.4, 0.4], 0.2, 0.0, 0.02);
+    assert!(Simulation::new(thick, modern_params()).is_ok());
 }

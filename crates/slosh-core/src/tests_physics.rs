@@ -1,6 +1,6 @@
 //! Solver-level physics checks on the test box tank.
 
-use crate::test_tank::box_tank;
+use crate::test_tank::{box_tank, box_tank_for};
 use crate::{NeighbourBackend, Simulation, SphParams, Vector};
 
 fn run_until<const D: usize>(sim: &mut Simulation<D>, t_end: f64) {
@@ -13,7 +13,13 @@ fn run_until<const D: usize>(sim: &mut Simulation<D>, t_end: f64) {
 /// all fluid particles within 5 % of 1 (the acceptance tolerance of the foundation issue).
 #[test]
 fn hydrostatic_pressure_after_settling() {
-    let setup = box_tank::<2>([1.0, 1.0], 0.5, 0.0, 0.02);
+    let setup = box_tank_for::<2>(
+        &SphParams::default().with_paper_stiffness(),
+        [1.0, 1.0],
+        0.5,
+        0.0,
+        0.02,
+    );
     let mut sim = Simulation::new(setup, SphParams::default().with_paper_stiffness()).unwrap();
     run_until(&mut sim, 1.0);
     let (mut sxy, mut sxx) = (0.0, 0.0);
@@ -69,7 +75,13 @@ fn backends_agree() {
 #[test]
 #[ignore]
 fn explore_resonant_paper_case() {
-    let setup = box_tank::<2>([1.0, 1.0], 0.5, 0.0, 0.02);
+    let setup = box_tank_for::<2>(
+        &SphParams::default().with_paper_stiffness(),
+        [1.0, 1.0],
+        0.5,
+        0.0,
+        0.02,
+    );
     let mut sim = Simulation::new(setup, SphParams::default().with_paper_stiffness()).unwrap();
     let (a, w) = (0.0093, 5.311);
     let t0 = std::time::Instant::now();
@@ -143,13 +155,13 @@ fn modern_backends_agree() {
         let mut sims: Vec<Simulation<2>> = [NeighbourBackend::CellGrid, NeighbourBackend::KdTree]
             .into_iter()
             .map(|b| {
-                let setup = box_tank::<2>([0.4, 0.4], 0.2, 0.02, 0.02);
                 let params = SphParams {
                     neighbour_backend: b,
                     shifting: Some(0.5),
                     wall_no_slip: no_slip,
                     ..SphParams::modern().with_paper_stiffness()
                 };
+                let setup = box_tank_for::<2>(&params, [0.4, 0.4], 0.2, 0.02, 0.02);
                 Simulation::new(setup, params).unwrap()
             })
             .collect();
@@ -219,7 +231,7 @@ fn results_do_not_depend_on_the_thread_count() {
             .build()
             .unwrap();
         pool.install(|| {
-            let setup = box_tank::<D>(size, 0.5 * size[D - 1], 0.05, dx);
+            let setup = box_tank_for::<D>(&params, size, 0.5 * size[D - 1], 0.05, dx);
             let mut sim = Simulation::new(setup, params.clone()).unwrap();
             let mut accel = Vector::<D>::zeros();
             for step in 0..40 {

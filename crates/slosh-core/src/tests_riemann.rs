@@ -2,7 +2,7 @@
 //! step: short stability checks in 2D and 3D against closed forms, and its refusal where it
 //! has no right state.
 
-use crate::test_tank::box_tank;
+use crate::test_tank::box_tank_for;
 use crate::tests_modern::{free_sloshing_period, hydrostatics, modern_params};
 use crate::{BoundaryMethod, DensityMethod, PairScheme, SimError, Simulation, SphParams, Vector};
 
@@ -42,7 +42,7 @@ fn riemann_pair_2d_hydrostatics_and_period() {
 /// compresses by g H/c0² ≈ 0.1 % at this c0).
 #[test]
 fn riemann_pair_3d_stays_stable() {
-    let setup = box_tank::<3>([0.2, 0.1, 0.2], 0.1, 0.01, 0.02);
+    let setup = box_tank_for::<3>(&riemann_params(), [0.2, 0.1, 0.2], 0.1, 0.01, 0.02);
     let mut sim = Simulation::new(setup, riemann_params()).unwrap();
     let mean =
         |s: &Simulation<3>| s.fluid().density.iter().sum::<f64>() / s.fluid().density.len() as f64;
@@ -76,7 +76,7 @@ fn riemann_pair_without_its_parts_is_refused() {
             ..riemann_params()
         },
     ] {
-        let setup = box_tank::<2>([0.4, 0.4], 0.2, 0.0, 0.02);
+        let setup = box_tank_for::<2>(&params, [0.4, 0.4], 0.2, 0.0, 0.02);
         match Simulation::new(setup, params) {
             Err(SimError::InvalidSetup(msg)) => {
                 assert!(msg.contains("adami") && msg.contains("continuity"), "{msg}")

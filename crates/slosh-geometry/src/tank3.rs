@@ -708,6 +708,12 @@ impl SphereTank {
         self
     }
 
+    /// Sets the number of wall layers.
+    pub fn with_layers(mut self, layers: u8) -> Self {
+        self.layers = layers;
+        self
+    }
+
     /// Builds the initial particles for spacing `dx` (m), following the 3D rules in the crate
     /// documentation, with the parts by facing described on the type.
     pub fn build(&self, dx: f64) -> Result<ParticleSetup<3>, GeometryError> {

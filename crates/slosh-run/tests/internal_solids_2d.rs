@@ -33,6 +33,7 @@ fn plate_on_the_floor_and_column_carry_hydrostatic_loads() {
     )
     .with_solid(Solid2::plate("plate", [0.18, 0.0], plate_len, 0.06, 0.0))
     .with_solid(Solid2::circle("column", [0.45, 0.15], r))
+    .with_layers(SphParams::modern().wall_layers())
     .build(0.01)
     .expect("the tank builds");
     let mut sim = Simulation::new(setup, SphParams::modern()).expect("the simulation starts");

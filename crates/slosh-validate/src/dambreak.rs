@@ -138,6 +138,7 @@ fn dam_break_sim(
 ) -> Result<Simulation<2>> {
     let mut setup = RectTank2::new(tank_width, tank_height, height)
         .with_roof(false)
+        .with_layers(params.wall_layers())
         .build(dx)?;
     setup.fluid_positions.retain(|p| p.x < column);
     Ok(Simulation::new(setup, params)?)

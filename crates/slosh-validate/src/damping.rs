@@ -203,6 +203,7 @@ pub(crate) fn decay_run(
         .with_roof(false)
         .with_initial_tilt(TILT * depth)
         .with_initial_shape(InitialSurface::FirstMode)
+        .with_layers(params.wall_layers())
         .build(dx)?;
     let sim = Simulation::new(setup, params)?;
     let (lo, _) = sim.interior_bounds();
@@ -395,7 +396,13 @@ pub(crate) fn convergence_order(levels: &[f64], errors: &[f64]) -> f64 {
 }
 
 /// A check that `measured` is at most `limit` (same unit, per cent shown).
-fn at_most_check(group: &str, name: &str, measured: f64, limit: f64, reason: &str) -> Check {
+pub(crate) fn at_most_check(
+    group: &str,
+    name: &str,
+    measured: f64,
+    limit: f64,
+    reason: &str,
+) -> Check {
     let pass = measured.is_finite() && measured <= limit;
     Check {
         group: group.into(),
@@ -669,6 +676,7 @@ pub fn cylinder_free_decay(ctx: &Context) -> GroupResult {
                 CylinderTank::new(radius, (1.5 * depth / dx).round() * dx, depth, Roof::None)
                     .with_initial_tilt(TILT * depth)
                     .with_initial_shape(InitialSurface::FirstMode)
+                    .with_layers(SphParams::modern().wall_layers())
                     .build(dx)?;
             let mut sim = Simulation::new(setup, SphParams::modern())?;
             let fill = sim.fill_level();

@@ -198,6 +198,7 @@ fn forced_run(
     let case = &scaled;
     let setup = RectTank2::new(WIDTH, HEIGHT, DEPTH)
         .with_roof(false)
+        .with_layers(params.wall_layers())
         .build(DX)?;
     let sim = Simulation::new(setup, params)?;
     let excitation = SineExcitation {

@@ -10,6 +10,7 @@
 
 mod dambreak;
 mod damping;
+mod experiments;
 mod forced_linear;
 mod modern;
 mod real_scale;
@@ -369,6 +370,14 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             one(
                 "Forced linear response from rest",
                 forced_linear::forced_from_rest,
+            ),
+        ),
+        (
+            "nonlinear sloshing against experiments",
+            one(
+                "Nonlinear sloshing against experiments (Faltinsen et al. 2000, Bouscasse et \
+                 al. 2013)",
+                experiments::against_experiments,
             ),
         ),
         (

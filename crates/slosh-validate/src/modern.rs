@@ -104,6 +104,7 @@ fn decay_run(
         .with_roof(false)
         .with_initial_tilt(DAMPING_TILT * d)
         .with_initial_shape(InitialSurface::FirstMode)
+        .with_layers(params.wall_layers())
         .build(dx)?;
     let mut sim = Simulation::new(setup, params)?;
     let (lo, hi) = sim.interior_bounds();
@@ -293,6 +294,7 @@ fn period(ctx: &Context) -> GroupResult {
                     .with_roof(false)
                     .with_initial_tilt(0.1 * d)
                     .with_initial_shape(InitialSurface::FirstMode)
+                    .with_layers(scheme.params.wall_layers())
                     .build(DX)?;
                 let mut sim = Simulation::new(setup, scheme.params.clone())?;
                 let depth = sim.fill_level() - sim.interior_bounds().0.y;

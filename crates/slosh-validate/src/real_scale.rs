@@ -95,7 +95,9 @@ fn paper_case_scaled(
     excitation_lab: f64,
 ) -> Result<ScaledRun> {
     let (width, height, depth, dx) = (1.0 * scale, 1.0 * scale, 0.5 * scale, 0.02 * scale);
-    let setup = RectTank2::new(width, height, depth).build(dx)?;
+    let setup = RectTank2::new(width, height, depth)
+        .with_layers(params.wall_layers())
+        .build(dx)?;
     let sim = Simulation::new(setup, params.clone())?;
     let time_scale = scale.sqrt();
     let excitation = SineExcitation {
@@ -263,6 +265,7 @@ pub fn hydrostatics_at_depth(ctx: &Context) -> GroupResult {
         let run = || -> Result<(f64, f64, f64, f64, f64, f64, f64)> {
             let setup = RectTank2::new(width, shell, depth)
                 .with_roof(false)
+                .with_layers(params.wall_layers())
                 .build(dx)?;
             let mut sim = Simulation::new(setup, params.clone())?;
             let fill = sim.fill_level();
@@ -463,6 +466,7 @@ pub fn free_sloshing_2d(ctx: &Context) -> GroupResult {
                 .with_roof(false)
                 .with_initial_tilt(0.05 * depth)
                 .with_initial_shape(InitialSurface::FirstMode)
+                .with_layers(SphParams::modern().wall_layers())
                 .build(dx)?;
             let mut sim = Simulation::new(setup, SphParams::modern())?;
             let held = sim.fill_level() - sim.interior_bounds().0.y;
@@ -611,6 +615,7 @@ fn cylinder_free(ctx: &Context, n: f64) -> GroupResult {
             let setup = CylinderTank::new(radius, 16.0, depth, Roof::None)
                 .with_initial_tilt(0.02 * radius)
                 .with_initial_shape(InitialSurface::FirstMode)
+                .with_layers(SphParams::modern().wall_layers())
                 .build(dx)?;
             let mut sim = Simulation::new(setup, SphParams::modern())?;
             let fill = sim.fill_level();

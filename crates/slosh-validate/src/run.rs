@@ -71,6 +71,7 @@ pub fn rect_sim_with(
     let setup = RectTank2::new(width, tank_height, depth)
         .with_roof(roof)
         .with_initial_tilt(tilt)
+        .with_layers(params.wall_layers())
         .build(dx)?;
     Ok(Simulation::new(setup, params)?)
 }

@@ -55,7 +55,9 @@ fn section_period_run(
     reference: impl Fn(f64) -> f64,
     describe: impl Fn(f64, usize) -> String,
 ) -> Result<PeriodRun> {
-    let setup = tank.build(dx)?;
+    let setup = tank
+        .with_layers(SphParams::modern().wall_layers())
+        .build(dx)?;
     let mut sim = Simulation::new(setup, SphParams::modern())?;
     let held = sim.fill_level();
     let t1 = reference(held);

@@ -182,6 +182,7 @@ fn cylinder_periods(ctx: &Context) -> GroupResult {
             let setup = CylinderTank::new(radius, depth + 0.2, depth, Roof::None)
                 .with_initial_tilt(0.02 * radius)
                 .with_initial_shape(InitialSurface::FirstMode)
+                .with_layers(SphParams::modern().wall_layers())
                 .build(dx)?;
             let mut sim = Simulation::new(setup, SphParams::modern().with_paper_stiffness())?;
             let fill = sim.fill_level();
@@ -280,10 +281,12 @@ fn mesh_cylinder_inner(ctx: &Context, group: &str) -> Result<GroupResult> {
     let mesh_setup = MeshTank::new(&path, depth)
         .with_initial_tilt(tilt)
         .with_cylinder_mode(radius)
+        .with_layers(SphParams::modern().wall_layers())
         .build(dx)?;
     let built_in = CylinderTank::new(radius, height, depth, Roof::Flat)
         .with_initial_tilt(tilt)
         .with_initial_shape(InitialSurface::FirstMode)
+        .with_layers(SphParams::modern().wall_layers())
         .build(dx)?;
     let mut periods = Vec::new();
     let mut curves = Vec::new();
@@ -402,7 +405,9 @@ pub(crate) fn cylinder_forced_inner(
     case: &ForcedCylinder,
 ) -> Result<GroupResult> {
     let (radius, depth, dx) = (case.radius, case.depth, case.dx);
-    let setup = CylinderTank::new(radius, case.roof_height, depth, Roof::Flat).build(dx)?;
+    let setup = CylinderTank::new(radius, case.roof_height, depth, Roof::Flat)
+        .with_layers(SphParams::modern().wall_layers())
+        .build(dx)?;
     let params = if case.paper_stiffness {
         SphParams::modern().with_paper_stiffness()
     } else {
@@ -636,11 +641,13 @@ pub fn box_vs_2d(ctx: &Context) -> GroupResult {
         let setup3 = BoxTank::new(width, 3.0 * dx, height, depth)
             .with_initial_tilt(tilt)
             .with_initial_shape(InitialSurface::FirstMode)
+            .with_layers(SphParams::modern().wall_layers())
             .build(dx)?;
         let mut sim3 = Simulation::new(setup3, SphParams::modern().with_paper_stiffness())?;
         let setup2 = slosh_geometry::RectTank2::new(width, height, depth)
             .with_initial_tilt(tilt)
             .with_initial_shape(InitialSurface::FirstMode)
+            .with_layers(SphParams::modern().wall_layers())
             .build(dx)?;
         let mut sim2 = Simulation::new(setup2, SphParams::modern().with_paper_stiffness())?;
         ctx.say(&format!(

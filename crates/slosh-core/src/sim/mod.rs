@@ -221,6 +221,18 @@ impl<const D: usize> Simulation<D> {
                 "viscosity coefficients (dynamic_viscosity, av_alpha, av_beta) must be ≥ 0".into(),
             ));
         }
+        let layers_needed = params.wall_layers();
+        let layers = setup.wall_layer.iter().copied().max().unwrap_or(0);
+        if layers < layers_needed {
+            return Err(SimError::InvalidSetup(format!(
+                "the walls are {layers} particle layers thick but the kernel reaches {} spacings \
+                 (support 2h, h/dx = {}): a fluid particle next to a wall would find the wall \
+                 missing from part of its support and could pass through it; build the tank \
+                 with at least {layers_needed} wall layers (`with_layers`) or lower h/dx",
+                2.0 * params.smoothing_ratio,
+                params.smoothing_ratio
+            )));
+        }
         let h = params.smoothing_ratio * dx;
         let kernel = Kernel::new(params.kernel, h, D);
         let depth = setup.fill_level - setup.interior_min[D - 1];
@@ -705,6 +717,29 @@ impl<const D: usize> Simulation<D> {
     /// Simulation state for a restart-free check: the largest |v| (m/s).
     pub fn max_speed(&self) -> f64 {
         self.max_speed_and_acceleration().0
+    }
+
+    /// Changes every fluid particle's velocity by `dv` (m/s, tank frame) between steps: the
+    /// tank's velocity jumps by −`dv` at this instant, and the liquid, which cannot follow it
+    /// in no time, is left moving at `dv` relative to it (a sway x = A sin ωt started at t = 0
+    /// leaves the liquid at −A ω). Refused for a non-finite `dv`.
+    pub fn jump_velocity(&mut self, dv: Vector<D>) -> Result<(), SimError> {
+        if !dv.iter().all(|v| v.is_finite()) {
+            return Err(SimError::InvalidSetup(format!(
+                "the velocity jump must be finite (got {:?})",
+                dv.as_slice()
+            )));
+        }
+        for (v, vh) in self
+            .fluid
+            .velocity
+            .iter_mut()
+            .zip(self.fluid.velocity_half.iter_mut())
+        {
+            *v += dv;
+            *vh += dv;
+        }
+        Ok(())
     }
 }
 
