@@ -19,7 +19,7 @@
 use anyhow::{bail, Context, Result};
 use rayon::ThreadPool;
 use slosh_core::{
-    NeighbourBackend, PairScheme, ParticleSetup, PhaseTimes, Simulation, SphParams, Tensor, Vector,
+    NeighbourBackend, ParticleSetup, PhaseTimes, Simulation, SphParams, Tensor, Vector,
 };
 use slosh_geometry::{CylinderTank, RectTank2, Roof};
 use std::fmt::Write as _;
@@ -446,13 +446,10 @@ fn run_case<const D: usize>(
     reset_peak_rss();
     let rss_before = proc_status_kib("VmRSS:").unwrap_or(0) as f64 * 1024.0;
     let preset = if config.modern {
-        SphParams {
-            pair_scheme: if config.riemann {
-                PairScheme::Riemann
-            } else {
-                PairScheme::Standard
-            },
-            ..SphParams::modern()
+        if config.riemann {
+            SphParams::modern().with_riemann_pair()
+        } else {
+            SphParams::modern()
         }
     } else {
         SphParams::paper()

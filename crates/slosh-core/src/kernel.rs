@@ -11,8 +11,10 @@ pub enum KernelKind {
     /// Wendland C2 (Wendland 1995), smoother pressure fields, no pairing instability.
     /// Support 2h like the spline. It needs more neighbours than the spline: measured in
     /// `tests_modern` (modern scheme, 0.6 × 0.3 m tank, dx = 0.02 m) the first sloshing period
-    /// was −4.7 % off at h = 1.3 dx, −4.0 % at 1.4 dx and −0.4 % at 1.5 dx; with three wall
-    /// layers 2h must not exceed 3 dx, so h = 1.5 dx is the value to use.
+    /// was −4.7 % off at h = 1.3 dx, −4.0 % at 1.4 dx and −0.4 % at 1.5 dx; the free decay of
+    /// the first mode damps by ζ = 1.0, 1.8, 0.45, 0.37 and 0.21 % at h = 1.3, 1.4, 1.5, 1.7
+    /// and 2 dx (40 particles per depth, `docs/validation.md`), so the modern preset uses
+    /// h = 2 dx, with walls of [`crate::SphParams::wall_layers`] layers.
     WendlandC2,
 }
 

@@ -8,10 +8,7 @@ use crate::{BoundaryMethod, DensityMethod, PairScheme, SimError, Simulation, Sph
 
 /// The modern preset with the Riemann pair in place of Eq. 8 and the continuity equation.
 fn riemann_params() -> SphParams {
-    SphParams {
-        pair_scheme: PairScheme::Riemann,
-        ..modern_params()
-    }
+    modern_params().with_riemann_pair()
 }
 
 /// 2D, settled 1 s from a hydrostatic start (1.0 × 1.0 m tank, 0.5 m of water, dx = 0.02 m):

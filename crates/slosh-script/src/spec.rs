@@ -1424,11 +1424,17 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, Resolut
             ))
         }
     };
+    // The single-sum operator is a term of the standard pair against Adami walls: a script
+    // that picks the Riemann pair or dynamic walls without naming the operator gets the
+    // strain-rate one, which goes with every pair and wall.
+    let operator_default =
+        if p.pair_scheme == PairScheme::Standard && p.boundary == BoundaryMethod::Adami {
+            p.viscous_operator
+        } else {
+            ViscousOperator::StrainRate
+        };
     p.viscous_operator = match r
-        .str_or(
-            "viscous_operator",
-            viscous_operator_name(p.viscous_operator),
-        )?
+        .str_or("viscous_operator", viscous_operator_name(operator_default))?
         .as_str()
     {
         "strain_rate" => ViscousOperator::StrainRate,
@@ -1569,7 +1575,8 @@ mod tests {
         assert_eq!(p.boundary, BoundaryMethod::Adami);
         assert_eq!(p.integrator, Integrator::Symplectic);
         assert_eq!(p.kernel, KernelKind::WendlandC2);
-        assert_eq!(p.smoothing_ratio, 1.5);
+        assert_eq!(p.smoothing_ratio, 2.0);
+        assert_eq!(p.viscous_operator, ViscousOperator::MonaghanCleary);
         assert!(!p.clamp_negative_pressure);
         assert_eq!(p.shifting, None);
         // Switched back part by part.
@@ -1592,6 +1599,8 @@ mod tests {
         assert_eq!(p.integrator, Integrator::LeapFrog);
         assert_eq!(p.shifting, Some(2.0));
         assert_eq!(p.pair_scheme, PairScheme::Standard);
+        // Dynamic walls take the strain-rate operator, which goes with them.
+        assert_eq!(p.viscous_operator, ViscousOperator::StrainRate);
         let (p, _, _) = numerics(&[
             ("scheme", "modern".into()),
             ("pair_scheme", "riemann".into()),
@@ -1601,10 +1610,10 @@ mod tests {
         assert_eq!(p.viscous_operator, ViscousOperator::StrainRate);
         let (p, _, _) = numerics(&[
             ("scheme", "modern".into()),
-            ("viscous_operator", "monaghan_cleary".into()),
+            ("viscous_operator", "strain_rate".into()),
         ])
         .unwrap();
-        assert_eq!(p.viscous_operator, ViscousOperator::MonaghanCleary);
+        assert_eq!(p.viscous_operator, ViscousOperator::StrainRate);
         // The paper scheme is SphParams::default().
         let (p, _, _) = numerics(&[]).unwrap();
         assert!(!p.uses_modern_step());

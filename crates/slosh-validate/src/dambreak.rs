@@ -713,32 +713,37 @@ fn viscous_current_inner(ctx: &Context, group: &str) -> Result<GroupResult> {
         params.eos_stiffness = RHO * VISCOUS_SOUND_SPEED.powi(2) / params.eos_gamma;
         let mut sim = dam_break_sim(params, 6.0 * a, 2.0 * a, a, a, dx)?;
         let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
-        // The free-slip run only shows where the liquid is without wall friction.
+        // The free-slip run only shows where the liquid is without wall friction: it stops
+        // when its front reaches 5a (before it runs into the far wall, where the film, then a
+        // few particles thick, is thinner than the kernel's support) or at t_start.
         let t_stop = if no_slip { t_end } else { t_start };
+        let free_slip_reach = 5.0;
         let label = if no_slip { "no-slip" } else { "free-slip" };
         ctx.say(&format!(
             "viscous current ({label} floor): column {a} × {a} m, ν = {VISCOUS_NU} m²/s, \
              dx = {dx} m, {} fluid particles, to t = {t_stop:.2} s",
             sim.fluid().position.len()
         ));
-        let (mut ts, mut xs) = (Vec::new(), Vec::new());
-        let mut next = 0.05;
+        let (mut ts, mut xs): (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
+        let mut next: f64 = 0.05;
         let particle_steps = &mut g.particle_steps;
-        step_until(
-            &mut sim,
-            |_| [0.0; 3],
-            t_stop,
-            "the viscous current stopped",
-            |sim| {
-                *particle_steps += n_all;
-                if sim.time() >= next {
-                    next += 0.05;
-                    ts.push(sim.time());
-                    xs.push(front_position(sim, 0.5 * dx, 0.25 * a) / a);
-                }
-                Ok(())
-            },
-        )?;
+        while sim.time() < t_stop && (no_slip || xs.last().is_none_or(|&x| x < free_slip_reach)) {
+            step_until(
+                &mut sim,
+                |_| [0.0; 3],
+                next.min(t_stop),
+                "the viscous current stopped",
+                |_| {
+                    *particle_steps += n_all;
+                    Ok(())
+                },
+            )?;
+            if sim.time() >= next - 1e-12 {
+                next += 0.05;
+                ts.push(sim.time());
+                xs.push(front_position(&sim, 0.5 * dx, 0.25 * a) / a);
+            }
+        }
         g.checks.push(stayed_inside(group, &sim));
         if no_slip {
             let errors: Vec<f64> = ts
@@ -777,15 +782,19 @@ fn viscous_current_inner(ctx: &Context, group: &str) -> Result<GroupResult> {
                  floor and the liquid together deliver",
             ));
         } else {
-            let x_end = xs.last().copied().unwrap_or(f64::NAN);
+            let (t_last, x_last) = (
+                ts.last().copied().unwrap_or(f64::NAN),
+                xs.last().copied().unwrap_or(f64::NAN),
+            );
             g.checks.push(info_row(
                 group,
-                &format!("free-slip floor: front x_N/a at t = {t_start:.1} s"),
-                format!("{x_end:.2}"),
-                format!("{:.2} (Huppert, no-slip)", huppert(t_start) / a),
-                format!("{:+.0} %", 100.0 * (x_end * a / huppert(t_start) - 1.0)),
-                "diagnostic, not judged: the same liquid without wall friction (the tank is 6a \
-                 wide), what the no-slip check above tells apart",
+                "free-slip floor: front x_N/a when the run stopped",
+                format!("{x_last:.2} at t = {t_last:.2} s"),
+                format!("{:.2} at that time (Huppert, no-slip)", huppert(t_last) / a),
+                format!("{:+.0} %", 100.0 * (x_last * a / huppert(t_last) - 1.0)),
+                "diagnostic, not judged: the same liquid without wall friction, stopped when its \
+                 front reaches 5a (the tank is 6a wide) or at the start of the judged window; \
+                 what the no-slip check above tells apart",
             ));
         }
         runs.push((format!("SPH, {label} floor"), ts, xs));

@@ -332,11 +332,11 @@ pub fn forced_from_rest(ctx: &Context) -> GroupResult {
             (
                 "modern, Riemann pair with δ-SPH (Zhang, Hu & Adams 2017)",
                 |p| {
-                    p.pair_scheme = slosh_core::PairScheme::Riemann;
+                    *p = p.clone().with_riemann_pair();
                 },
             ),
             ("modern, Riemann pair without δ-SPH", |p| {
-                p.pair_scheme = slosh_core::PairScheme::Riemann;
+                *p = p.clone().with_riemann_pair();
                 p.density_diffusion = DensityDiffusion::None;
             }),
         ];

@@ -14,7 +14,7 @@ use super::{
     Check, GroupResult, Verdict,
 };
 use crate::run::{step_until, step_until_around};
-use slosh_core::{DensityDiffusion, PairScheme, Simulation, SphParams, PART_ROOF};
+use slosh_core::{DensityDiffusion, Simulation, SphParams, PART_ROOF};
 use slosh_geometry::{InitialSurface, RectTank2};
 use slosh_io::{PlotSpec, Series};
 use slosh_run::StepPhase;
@@ -840,9 +840,8 @@ pub fn riemann_pair(ctx: &Context) -> GroupResult {
     let mut g = GroupResult::default();
     let riemann = |diffusion| {
         SphParams {
-            pair_scheme: PairScheme::Riemann,
             density_diffusion: diffusion,
-            ..SphParams::modern()
+            ..SphParams::modern().with_riemann_pair()
         }
         .with_paper_stiffness()
     };

@@ -133,7 +133,7 @@ mod tests {
     /// In the bulk the operator is μ (∇²v + 2 ∇(∇·v))/ρ (Colagrossi et al. 2011): for the
     /// shear v = (y², 0) that is (2, 0) μ/ρ, for v = (x², 0) (6, 0) μ/ρ. The lattice sum
     /// converges to it as h/dx grows: at h = 3 dx it is −2.3 % and −1.3 % off (the 0.01 h²
-    /// regularisation and the lattice), so 5 %; at the modern scheme's h = 1.5 dx the shear
+    /// regularisation and the lattice), so 5 %; at h = 1.5 dx the shear
     /// sum is 12 % low, a discretisation error of the coarse kernel, not of the operator.
     #[test]
     fn bulk_limit_is_the_laplacian_plus_twice_the_divergence_gradient() {
