@@ -28,6 +28,7 @@ macro_rules! with_search {
     };
 }
 
+pub mod device;
 pub mod error;
 pub mod gauge;
 pub mod kernel;
@@ -41,6 +42,7 @@ mod stages;
 mod sweep;
 mod terms;
 
+pub use device::{device_unsupported, DeviceSetup, DeviceStepReport, StepDevice};
 pub use error::SimError;
 pub use kernel::{Kernel, KernelKind};
 pub use loads::{LoadEvaluator, LoadPeaks, LoadState, PartLoads};

@@ -337,6 +337,8 @@ struct CaseMeasurements<'o, const D: usize, O: ?Sized> {
     /// Wall time of the loop before this call of the run (s), from a checkpoint.
     wall_time_before: f64,
     started: Instant,
+    /// The observer asked for a checkpoint after the coming step.
+    checkpoint_pending: bool,
 }
 
 impl<const D: usize, O: Observer<D> + ?Sized> CaseMeasurements<'_, D, O> {
@@ -492,10 +494,25 @@ impl<const D: usize, O: Observer<D> + ?Sized> StepHooks<D> for CaseMeasurements<
     fn after_step(&mut self, sim: &Simulation<D>) -> Result<(), HookError> {
         self.complete_ready_rows(sim)?;
         self.observer.progress(sim.time(), sim.steps());
-        if self.observer.checkpoint_due(sim.time(), sim.steps()) {
+        if std::mem::take(&mut self.checkpoint_pending) {
             self.write_checkpoint(sim)?;
         }
         Ok(())
+    }
+
+    /// Before a step: at an output row, a frame or the end of settling (the compression);
+    /// after it: when the observer asks for a checkpoint.
+    fn reads_particles(&mut self, sim: &Simulation<D>, before: bool) -> bool {
+        let t = sim.time();
+        if before {
+            let settle = self.plan.settle;
+            (self.compression.is_none() && settle > 0.0 && t >= settle - TIME_EPS)
+                || t >= self.next_output - TIME_EPS
+                || (self.plan.frame_interval > 0.0 && t >= self.next_frame - TIME_EPS)
+        } else {
+            self.checkpoint_pending = self.observer.checkpoint_due(t, sim.steps());
+            self.checkpoint_pending
+        }
     }
 }
 
@@ -569,6 +586,7 @@ where
         largest_wave: None,
         wall_time_before: 0.0,
         started: Instant::now(),
+        checkpoint_pending: false,
         observer,
         plan,
     };

@@ -56,10 +56,22 @@ pub trait StepHooks<const D: usize> {
     fn after_step(&mut self, _sim: &Simulation<D>) -> Result<(), HookError> {
         Ok(())
     }
+
+    /// Whether the coming call of [`Self::before_step`] (`before` = true) or
+    /// [`Self::after_step`] (`before` = false) reads the fluid particles, so that the loop
+    /// makes the host's arrays current first ([`Simulation::sync_host`]: a copy from the
+    /// device when one runs the step, nothing on the CPU). By default every call reads them.
+    fn reads_particles(&mut self, _sim: &Simulation<D>, _before: bool) -> bool {
+        true
+    }
 }
 
 /// No work around the steps.
-impl<const D: usize> StepHooks<D> for () {}
+impl<const D: usize> StepHooks<D> for () {
+    fn reads_particles(&mut self, _sim: &Simulation<D>, _before: bool) -> bool {
+        false
+    }
+}
 
 /// Where a step hook is called: before a step, with the ground acceleration `[x, y,
 /// vertical]` (m/s²) it is about to apply, or after it.
@@ -134,6 +146,28 @@ where
     H: StepHooks<D> + ?Sized,
     S: StopRequest + ?Sized,
 {
+    let result = advance_steps(sim, motion, until, hooks, stop);
+    // The loop leaves the host's particle arrays current whatever ended it (a device that
+    // ran the steps copies them back once here).
+    let synced = sim.sync_host();
+    result?;
+    synced?;
+    Ok(())
+}
+
+/// The loop of [`advance`].
+fn advance_steps<const D: usize, M, H, S>(
+    sim: &mut Simulation<D>,
+    motion: &mut M,
+    until: Until,
+    hooks: &mut H,
+    stop: &mut S,
+) -> Result<(), StepError>
+where
+    M: GroundMotion + ?Sized,
+    H: StepHooks<D> + ?Sized,
+    S: StopRequest + ?Sized,
+{
     let first_step = sim.steps();
     loop {
         let more = match until {
@@ -147,10 +181,16 @@ where
         let accel = motion
             .ground_accel(t)
             .map_err(|error| StepError::Motion { time: t, error })?;
+        if hooks.reads_particles(sim, true) {
+            sim.sync_host()?;
+        }
         hooks.before_step(sim, accel).map_err(StepError::Hook)?;
         sim.step(to_vector::<D>(accel))?;
         // The step's measurements are complete before a stop: a run stopped here and
         // continued from its state takes the same measurements as one that goes on.
+        if hooks.reads_particles(sim, false) {
+            sim.sync_host()?;
+        }
         hooks.after_step(sim).map_err(StepError::Hook)?;
         if let Some(code) = stop.stop_requested() {
             return Err(StepError::Stopped {

@@ -163,6 +163,6 @@ impl<const D: usize> Simulation<D> {
         if self.step > 0 {
             self.rebuild_search();
         }
-        Ok(())
+        self.upload_to_device()
     }
 }

@@ -2,6 +2,7 @@
 //! reads from it. The time step is in `step.rs`, made of the stages of `crate::stages`;
 //! the pair sweeps are driven by `crate::sweep`, the pair terms are in `crate::terms`.
 
+use crate::device::{device_unsupported, DeviceSetup, StepDevice};
 use crate::error::SimError;
 use crate::kernel::Kernel;
 use crate::loads::LoadEvaluator;
@@ -140,6 +141,10 @@ pub struct Simulation<const D: usize> {
     pub(crate) blocks: Vec<u32>,
     /// Fluid → wall density sums of the sorted density pass.
     pub(crate) wall_scatter: WallScatter,
+    /// The device that runs the step instead of the CPU stages, when one is attached.
+    pub(crate) device: Option<Box<dyn StepDevice<D>>>,
+    /// The device has stepped since the fluid arrays were last copied back.
+    pub(crate) host_stale: bool,
 }
 
 impl<const D: usize> Simulation<D> {
@@ -409,6 +414,8 @@ impl<const D: usize> Simulation<D> {
             sound_choice,
             blocks: Vec::new(),
             wall_scatter: WallScatter::default(),
+            device: None,
+            host_stale: false,
             params,
         };
         sim.still_level_cached = sim.still_level();
@@ -719,11 +726,92 @@ impl<const D: usize> Simulation<D> {
         self.max_speed_and_acceleration().0
     }
 
+    /// What a device needs to run this simulation's step ([`DeviceSetup`]), or why it cannot
+    /// (the device runs the modern step only; [`device_unsupported`]).
+    pub fn device_setup(&self) -> Result<DeviceSetup<'_, D>, SimError> {
+        if let Some(why) = device_unsupported(&self.params) {
+            return Err(SimError::InvalidSetup(why));
+        }
+        let diffusion = match self.params.density_diffusion {
+            crate::params::DensityDiffusion::Fourtakas { delta } => delta,
+            _ => 0.0,
+        };
+        Ok(DeviceSetup {
+            params: &self.params,
+            smoothing_length: self.constants.kernel.h,
+            mass: self.constants.mass,
+            spacing: self.spacing,
+            sound_speed: self.sound_speed,
+            av_sound_speed: self.constants.av_sound_speed,
+            diffusion_coeff: diffusion * self.constants.kernel.h * self.sound_speed,
+            hydrostatic_diffusion: diffusion > 0.0,
+            still_level: self.still_level_cached,
+            domain_min: self.domain_min,
+            domain_max: self.domain_max,
+            fluid: &self.fluid,
+            walls: &self.walls,
+        })
+    }
+
+    /// Hands the step to `device` (the GPU backend) from now on: the device is loaded with the
+    /// current state, and every later [`Self::step`] runs on it. The host's fluid arrays are
+    /// then current only after [`Self::sync_host`].
+    pub fn attach_device(&mut self, mut device: Box<dyn StepDevice<D>>) -> Result<(), SimError> {
+        self.sync_host()?;
+        device.upload(&self.device_setup()?)?;
+        self.device = Some(device);
+        Ok(())
+    }
+
+    /// The attached device's description (`None`: the step runs on the CPU).
+    pub fn device_description(&self) -> Option<String> {
+        self.device.as_ref().map(|d| d.description())
+    }
+
+    /// Device time of each kernel summed over the run (empty on the CPU).
+    pub fn device_kernel_times(&self) -> Vec<(String, f64)> {
+        self.device
+            .as_ref()
+            .map(|d| d.kernel_times())
+            .unwrap_or_default()
+    }
+
+    /// Makes the host's fluid arrays current: with a device attached, copies them back if the
+    /// device has stepped since, then sorts them by cell for the host's neighbour search (the
+    /// wave gauges, the frames and the checkpoints read them); a no-op on the CPU.
+    pub fn sync_host(&mut self) -> Result<(), SimError> {
+        if self.host_stale {
+            if let Some(device) = self.device.as_mut() {
+                device.download(&mut self.fluid)?;
+            }
+            self.host_stale = false;
+            self.sort_device_copy();
+        }
+        Ok(())
+    }
+
+    /// Whether the host's fluid arrays are current ([`Self::sync_host`]).
+    pub fn host_is_current(&self) -> bool {
+        !self.host_stale
+    }
+
+    /// Loads the host state into the attached device, if any (after a restore).
+    pub(crate) fn upload_to_device(&mut self) -> Result<(), SimError> {
+        if let Some(mut device) = self.device.take() {
+            let result = self.device_setup().and_then(|s| device.upload(&s));
+            self.device = Some(device);
+            result?;
+            self.host_stale = false;
+        }
+        Ok(())
+    }
+
     /// Changes every fluid particle's velocity by `dv` (m/s, tank frame) between steps: the
     /// tank's velocity jumps by −`dv` at this instant, and the liquid, which cannot follow it
     /// in no time, is left moving at `dv` relative to it (a sway x = A sin ωt started at t = 0
     /// leaves the liquid at −A ω). Refused for a non-finite `dv`.
     pub fn jump_velocity(&mut self, dv: Vector<D>) -> Result<(), SimError> {
+        self.sync_host()?;
         if !dv.iter().all(|v| v.is_finite()) {
             return Err(SimError::InvalidSetup(format!(
                 "the velocity jump must be finite (got {:?})",
@@ -739,7 +827,7 @@ impl<const D: usize> Simulation<D> {
             *v += dv;
             *vh += dv;
         }
-        Ok(())
+        self.upload_to_device()
     }
 }
 

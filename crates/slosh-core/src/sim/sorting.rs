@@ -132,6 +132,36 @@ impl<const D: usize> Simulation<D> {
     }
 }
 
+impl<const D: usize> Simulation<D> {
+    /// Sorts the host's copy of a device's state by cell and indexes the host's search (for
+    /// the wave gauges and what else reads the particles): every array the device copied back,
+    /// the acceleration and dρ/dt included, since the next upload (a restore) reads them.
+    pub(crate) fn sort_device_copy(&mut self) {
+        let Search::Grid(grid) = &mut self.search else {
+            return;
+        };
+        let order = grid.sort_order(&self.fluid.position);
+        let f = &mut self.fluid;
+        let (sv, sf, su) = (
+            &mut self.scratch_vec,
+            &mut self.scratch_f64,
+            &mut self.scratch_u32,
+        );
+        permute_par(&mut f.position, order, sv);
+        permute_par(&mut f.velocity, order, sv);
+        permute_par(&mut f.velocity_half, order, sv);
+        permute_par(&mut f.acceleration, order, sv);
+        permute_par(&mut f.density, order, sf);
+        permute_par(&mut f.inverse_density, order, sf);
+        permute_par(&mut f.pressure, order, sf);
+        permute_par(&mut f.density_rate, order, sf);
+        permute_par(&mut f.id, order, su);
+        grid.mark_sorted();
+        let target = (f.position.len() / 32).max(512);
+        grid.colour_blocks(target, &mut self.blocks);
+    }
+}
+
 /// Reorders `values` by `order` (new[k] = old[order[k]]) through a scratch buffer.
 pub(crate) fn permute<T: Copy + Send + Sync>(
     values: &mut Vec<T>,

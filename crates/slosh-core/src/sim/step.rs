@@ -28,6 +28,9 @@ impl<const D: usize> Simulation<D> {
                 value: format!("{:?}", ground_accel.as_slice()),
             });
         }
+        if self.device.is_some() {
+            return self.device_step(ground_accel);
+        }
         let plan = self.plan;
         let symplectic = plan.integration == TimeIntegration::Symplectic;
         let clock = std::time::Instant::now();
@@ -90,6 +93,67 @@ impl<const D: usize> Simulation<D> {
         Ok(())
     }
 
+    /// One step on the attached device: the particles advance there; the host takes the step
+    /// length and its statistics, the blow-up counts and this step's wall pressures, from
+    /// which it records the loads as the CPU step does (at the mid-step time of the
+    /// symplectic integrator).
+    fn device_step(&mut self, ground_accel: Vector<D>) -> Result<(), SimError> {
+        let clock = std::time::Instant::now();
+        let mut body_force = -ground_accel;
+        body_force[D - 1] -= self.params.gravity;
+        let Some(device) = self.device.as_mut() else {
+            return Ok(());
+        };
+        let report = device.step(body_force, &mut self.walls)?;
+        self.host_stale = true;
+        let dt = report.dt;
+        let h = self.constants.kernel.h;
+        let c = self.params.cfl_number;
+        let bound = {
+            let acoustic = c * h / (self.sound_speed + report.max_speed);
+            let force = if report.max_acceleration > 0.0 {
+                c * (h / report.max_acceleration).sqrt()
+            } else {
+                f64::INFINITY
+            };
+            let viscous = if self.params.dynamic_viscosity > 0.0 {
+                c * h * h * self.params.rest_density / self.params.dynamic_viscosity
+            } else {
+                f64::INFINITY
+            };
+            acoustic.min(force).min(viscous)
+        };
+        self.stats.dt_bound_min = self.stats.dt_bound_min.min(bound);
+        if dt > bound * (1.0 + 1e-9) {
+            self.stats.steps_above_bound += 1;
+        }
+        let mach = report.max_speed / self.sound_speed;
+        self.stats.max_mach = self.stats.max_mach.max(mach);
+        if mach > crate::sound_speed::MACH_LIMIT {
+            self.stats.steps_above_mach_limit += 1;
+            if self.stats.steps_above_mach_limit == 1 {
+                self.stats.first_time_above_mach_limit = self.time;
+            }
+        }
+        self.stats.dt_min = self.stats.dt_min.min(dt);
+        self.stats.dt_max = self.stats.dt_max.max(dt);
+        let t_loads = std::time::Instant::now();
+        self.phase_times.forces += (t_loads - clock).as_secs_f64();
+        self.record_loads_at(body_force, self.time + 0.5 * dt);
+        let t_end = std::time::Instant::now();
+        self.phase_times.loads += (t_end - t_loads).as_secs_f64();
+        self.blow_up_check(
+            dt,
+            (
+                report.non_finite as usize,
+                report.outside as usize,
+                report.first_outside,
+            ),
+        )?;
+        self.finish_step(dt, t_end);
+        Ok(())
+    }
+
     /// The state a run starts from: with continuity density the fluid (already sunk into its
     /// compression, [`settle_into_compression`]) starts at the hydrostatic density of its depth
     /// below the still level (no settling pressure wave); then the density and wall stages
@@ -125,7 +189,7 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// Re-sorts and re-indexes the fluid as the plan's sorting asks.
-    fn reindex(&mut self) {
+    pub(crate) fn reindex(&mut self) {
         match self.plan.sorting {
             Sorting::GatherEveryStep => self.sort_and_index(),
             Sorting::AllArraysEveryStep => self.sort_all_and_index(),
