@@ -38,6 +38,9 @@ pub struct RunRecord {
     pub dim: usize,
     /// Wall time between checkpoints (s).
     pub checkpoint_every_s: f64,
+    /// The `--backend` the run was started with (`None`: the script's).
+    #[serde(default)]
+    pub backend: Option<String>,
 }
 
 impl RunRecord {
@@ -61,6 +64,7 @@ impl RunRecord {
             allow_read: allow_read.to_vec(),
             dim: 0,
             checkpoint_every_s: every.as_secs_f64(),
+            backend: None,
         })
     }
 

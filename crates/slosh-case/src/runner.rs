@@ -87,14 +87,35 @@ fn build_and_run(
     match case.dim() {
         2 => {
             let setup = build::build_2d(&fit.tank, fit.dx, sph.wall_layers())?;
-            let sim = Simulation::<2>::new(setup, sph)?;
+            let mut sim = Simulation::<2>::new(setup, sph)?;
+            attach_backend(&mut sim)?;
             run_built(sim, case, fit, opts, stop)
         }
         _ => {
             let setup = build::build_3d(&fit.tank, fit.dx, sph.wall_layers(), &case.sandbox)?;
-            let sim = Simulation::<3>::new(setup, sph)?;
+            let mut sim = Simulation::<3>::new(setup, sph)?;
+            attach_backend(&mut sim)?;
             run_built(sim, case, fit, opts, stop)
         }
+    }
+}
+
+/// Hands the step to the GPU when the run's numerics ask for it (`backend: "gpu"`).
+fn attach_backend<const D: usize>(sim: &mut Simulation<D>) -> Result<()> {
+    if sim.params().backend != slosh_core::Backend::Gpu {
+        return Ok(());
+    }
+    #[cfg(feature = "gpu")]
+    {
+        slosh_gpu::attach(sim, slosh_gpu::Precision::F64)?;
+        Ok(())
+    }
+    #[cfg(not(feature = "gpu"))]
+    {
+        anyhow::bail!(
+            "this slosh was built without the GPU backend (cargo feature \"gpu\" of slosh-case); \
+             build it with the default features, or run on the CPU (backend \"cpu\")"
+        )
     }
 }
 
@@ -442,6 +463,7 @@ fn run_built<const D: usize>(
             .map(|p| (p.name.clone(), p.value.clone()))
             .collect(),
         numerics: sim.params().clone(),
+        device: sim.device_description().unwrap_or_else(|| "cpu".into()),
         theory,
         tank,
         tank_requested: case.tank.clone(),

@@ -82,6 +82,9 @@ pub struct Summary {
     pub parameters: Vec<(String, ParamValue)>,
     /// Solver parameters used.
     pub numerics: SphParams,
+    /// Where the step ran: "cpu", or the GPU device and its precision ("llvmpipe (Vulkan,
+    /// Mesa 22.3.6), f64").
+    pub device: String,
     /// The tank as simulated (dimensions fitted to the lattice, the fill depth it holds).
     pub tank: TankSpec,
     /// The tank as the script gave it.

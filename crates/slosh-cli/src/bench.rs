@@ -341,6 +341,154 @@ pub fn cli_bench(
     Ok(())
 }
 
+/// Steps of the GPU bench's profiling pass (each kernel submitted and timed alone).
+const GPU_PROFILE_STEPS: u64 = 5;
+
+/// `slosh bench --backend gpu [--quick] [--case NAME,..] [--out DIR]`: the modern preset on
+/// the first Vulkan device, each case timed over its fixed steps in one submission per step
+/// (particle-steps/s, wall time per simulated second), then a few steps with each kernel
+/// submitted alone for its share; prints a table and writes `DIR/bench_gpu.csv`.
+pub fn cli_bench_gpu(
+    quick: bool,
+    out: Option<PathBuf>,
+    only_cases: Option<Vec<String>>,
+) -> Result<()> {
+    #[cfg(feature = "gpu")]
+    {
+        let cases = select_cases(quick, only_cases.as_deref())?;
+        let out = out.unwrap_or_else(|| PathBuf::from("out").join("bench"));
+        println!(
+            "slosh bench --backend gpu{}: {} cases, modern scheme, load average {}",
+            if quick { " --quick" } else { "" },
+            cases.len(),
+            load_avg_line()
+        );
+        let mut lines = Vec::new();
+        let mut header = String::new();
+        for case in &cases {
+            let (row, kernels) = match case.tank {
+                BenchTank::PaperRect2 => gpu_case::<2>(case, |layers| {
+                    Ok(RectTank2::new(1.0, 1.0, 0.5)
+                        .with_layers(layers)
+                        .build(case.dx)?)
+                }),
+                BenchTank::Cylinder3 => gpu_case::<3>(case, |layers| {
+                    Ok(CylinderTank::new(0.5, 0.6, 0.5, Roof::Flat)
+                        .with_layers(layers)
+                        .build(case.dx)?)
+                }),
+                BenchTank::RealCylinder3 => gpu_case::<3>(case, |layers| {
+                    Ok(
+                        CylinderTank::new(12.0, 16.0, 13.0, Roof::Cone { apex_height: 1.5 })
+                            .with_layers(layers)
+                            .build(case.dx)?,
+                    )
+                }),
+            }
+            .with_context(|| format!("GPU bench case {}", case.name))?;
+            let total: f64 = kernels.iter().map(|k| k.1).sum();
+            if header.is_empty() {
+                header = "case,dim,particles,fluid_particles,steps,wall_s,particle_steps_per_s,\
+                          wall_s_per_simulated_s,device"
+                    .to_string();
+                for (name, _) in &kernels {
+                    header.push_str(&format!(",share_{name}"));
+                }
+            }
+            let shares: Vec<String> = kernels
+                .iter()
+                .map(|(_, t)| format!("{:.4}", t / total.max(f64::MIN_POSITIVE)))
+                .collect();
+            println!(
+                "{:<8} {:>9} particles  {:.3e} particle-steps/s  {:.1} s per simulated s  on {}",
+                row.0, row.2, row.6, row.7, row.8
+            );
+            println!(
+                "         kernel shares: {}",
+                kernels
+                    .iter()
+                    .zip(&shares)
+                    .map(|((name, _), s)| format!(
+                        "{name} {:.0} %",
+                        100.0 * s.parse::<f64>().unwrap_or(0.0)
+                    ))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+            lines.push(format!(
+                "{},{},{},{},{},{:.4},{:.6e},{:.4},\"{}\",{}",
+                row.0,
+                row.1,
+                row.2,
+                row.3,
+                row.4,
+                row.5,
+                row.6,
+                row.7,
+                row.8,
+                shares.join(",")
+            ));
+        }
+        std::fs::create_dir_all(&out)
+            .with_context(|| format!("cannot create {}", out.display()))?;
+        let path = out.join("bench_gpu.csv");
+        std::fs::write(&path, format!("{header}\n{}\n", lines.join("\n")))
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        println!("wrote {}", path.display());
+        Ok(())
+    }
+    #[cfg(not(feature = "gpu"))]
+    {
+        let _ = (quick, out, only_cases);
+        bail!("this slosh was built without the GPU backend (cargo feature \"gpu\")")
+    }
+}
+
+/// One GPU bench case: (case, dim, particles, fluid, steps, wall s, particle-steps/s, wall s
+/// per simulated s, device) and the kernel times of the profiling pass.
+#[cfg(feature = "gpu")]
+#[allow(clippy::type_complexity)]
+fn gpu_case<const D: usize>(
+    case: &BenchCase,
+    build: impl Fn(u8) -> Result<ParticleSetup<D>>,
+) -> Result<(
+    (String, usize, usize, usize, u64, f64, f64, f64, String),
+    Vec<(String, f64)>,
+)> {
+    let base = if case.tank == BenchTank::RealCylinder3 {
+        SphParams::modern()
+    } else {
+        SphParams::modern().with_paper_stiffness()
+    };
+    let mut sim = Simulation::new(build(base.wall_layers())?, base)?;
+    let device = slosh_gpu::attach(&mut sim, slosh_gpu::Precision::F64)?;
+    advance(&mut sim, WARMUP_STEPS)?;
+    let fluid = sim.fluid().position.len();
+    let particles = fluid + sim.walls().position.len();
+    let steps = case.steps.max(1) as u64;
+    let (t0, sim_t0) = (Instant::now(), sim.time());
+    advance(&mut sim, steps as usize)?;
+    let wall = t0.elapsed().as_secs_f64();
+    let simulated = sim.time() - sim_t0;
+    sim.set_device_profiling(true);
+    advance(&mut sim, GPU_PROFILE_STEPS as usize)?;
+    let kernels = sim.device_kernel_times();
+    Ok((
+        (
+            case.name.to_string(),
+            D,
+            particles,
+            fluid,
+            steps,
+            wall,
+            (particles as u64 * steps) as f64 / wall,
+            wall / simulated,
+            device,
+        ),
+        kernels,
+    ))
+}
+
 /// Runs `cases` and writes `out/bench.csv`; returns the rows.
 pub fn run_bench(cases: &[BenchCase], config: &BenchConfig, out: &Path) -> Result<Vec<BenchRow>> {
     let pools = config

@@ -58,6 +58,10 @@ struct BenchArgs {
     /// modern-riemann (the modern preset with the Riemann-solver pair).
     #[arg(long, default_value = "paper")]
     scheme: String,
+    /// Where the step runs: cpu (default) or gpu (the modern scheme on the first Vulkan
+    /// device: particle-steps/s and the share of each kernel, into bench_gpu.csv).
+    #[arg(long, value_parser = ["cpu", "gpu"], default_value = "cpu")]
+    backend: String,
 }
 
 #[derive(Args)]
@@ -106,6 +110,10 @@ struct RunArgs {
     /// `slosh resume DIR` continues it.
     #[arg(long, value_name = "DURATION", default_value = "10m")]
     checkpoint_every: String,
+    /// Where the step runs: cpu, or gpu (the modern scheme on the first Vulkan device);
+    /// overrides the script's `numerics` backend.
+    #[arg(long, value_parser = ["cpu", "gpu"])]
+    backend: Option<String>,
 }
 
 #[derive(Args)]
@@ -124,6 +132,9 @@ struct ResumeArgs {
     /// Memory the run may use (GB).
     #[arg(long, value_name = "GB", value_parser = positive_gb)]
     max_memory: Option<f64>,
+    /// Where the step runs (default: where the run started).
+    #[arg(long, value_parser = ["cpu", "gpu"])]
+    backend: Option<String>,
 }
 
 /// A positive, finite number of GB.
@@ -275,7 +286,17 @@ fn main() -> ExitCode {
             .and_then(|sets| slosh_cli::assess::cli::cli_assess(args, sets.overrides)),
         Command::Theory(args) => cmd_theory(args),
         Command::Bench(args) => {
-            slosh_cli::bench::cli_bench(args.quick, args.out, args.threads, args.case, &args.scheme)
+            if args.backend == "gpu" {
+                slosh_cli::bench::cli_bench_gpu(args.quick, args.out, args.case)
+            } else {
+                slosh_cli::bench::cli_bench(
+                    args.quick,
+                    args.out,
+                    args.threads,
+                    args.case,
+                    &args.scheme,
+                )
+            }
         }
         Command::Validate(args) => {
             match slosh_cli::validate::cli_validate(args.quick, args.out, args.only) {
@@ -343,17 +364,24 @@ fn cmd_run(args: RunArgs) -> Result<()> {
         }
         return Ok(());
     }
-    let case = load_case(&args.case, &options)?;
+    let mut case = load_case(&args.case, &options)?;
+    set_backend(&mut case, args.backend.as_deref());
     let out = args
         .out
         .unwrap_or_else(|| PathBuf::from("out").join(&case.name));
     let every = slosh_case::checkpoint::parse_every(&args.checkpoint_every)
         .map_err(|e| anyhow::anyhow!("--checkpoint-every {e}"))?;
     let checkpoints = match every {
-        Some(every) => Some((
-            slosh_case::checkpoint::RunRecord::new(&args.case, &args.set, &args.allow_read, every)?,
-            every,
-        )),
+        Some(every) => {
+            let mut record = slosh_case::checkpoint::RunRecord::new(
+                &args.case,
+                &args.set,
+                &args.allow_read,
+                every,
+            )?;
+            record.backend = args.backend.clone();
+            Some((record, every))
+        }
         None => None,
     };
     let opts = RunOptions {
@@ -367,6 +395,15 @@ fn cmd_run(args: RunArgs) -> Result<()> {
     };
     run_case(case, &opts)?;
     Ok(())
+}
+
+/// `--backend cpu|gpu`: where the case's step runs, over what its script says.
+fn set_backend(case: &mut slosh_script::Case, backend: Option<&str>) {
+    match backend {
+        Some("gpu") => case.sph.backend = slosh_core::Backend::Gpu,
+        Some("cpu") => case.sph.backend = slosh_core::Backend::Cpu,
+        _ => {}
+    }
 }
 
 fn cmd_resume(args: ResumeArgs) -> Result<()> {
@@ -383,7 +420,11 @@ fn cmd_resume(args: ResumeArgs) -> Result<()> {
     })?;
     let mut options = parse_sets(&record.sets)?;
     options.allow_read = record.allow_read.clone();
-    let case = load_case(&record.script, &options)?;
+    let mut case = load_case(&record.script, &options)?;
+    set_backend(
+        &mut case,
+        args.backend.as_deref().or(record.backend.as_deref()),
+    );
     if case.dim() != record.dim {
         anyhow::bail!(
             "the checkpoint in {} is of a {}D run; the script now builds a {}D case",

@@ -82,8 +82,13 @@ pub trait StepDevice<const D: usize>: Send {
     /// density rates, ids) into the host arrays, in the device's order.
     fn download(&mut self, fluid: &mut Fluid<D>) -> Result<(), SimError>;
 
-    /// Device time of each kernel summed over the run (name, s), for `slosh bench`.
+    /// Device time of each kernel summed over the run (name, s), for `slosh bench`: each
+    /// kernel's own while profiling ([`Self::set_profiling`]), else the whole step's.
     fn kernel_times(&self) -> Vec<(String, f64)>;
+
+    /// Profiling: each kernel submitted and waited for alone, so that its time can be told
+    /// apart (slower than one submission per step).
+    fn set_profiling(&mut self, on: bool);
 }
 
 /// Why the parameters of a run cannot go to a device, or `None` when they can: the device

@@ -48,8 +48,9 @@ pub use kernel::{Kernel, KernelKind};
 pub use loads::{LoadEvaluator, LoadPeaks, LoadState, PartLoads};
 pub use neighbours::{CellGrid, KdTreeSearch, NeighbourBackend, NeighbourSearch};
 pub use params::{
-    ArtificialSoundSpeed, BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, PairScheme,
-    SoundSpeedRule, SphParams, ViscousOperator, WallPressureMethod, PAPER_EOS_STIFFNESS,
+    ArtificialSoundSpeed, Backend, BoundaryMethod, DensityDiffusion, DensityMethod, Integrator,
+    PairScheme, SoundSpeedRule, SphParams, ViscousOperator, WallPressureMethod,
+    PAPER_EOS_STIFFNESS,
 };
 pub use setup::{ParticleSetup, TankInterior, PART_BOTTOM, PART_ROOF, PART_WALL};
 pub use sim::{Fluid, PhaseTimes, SimState, Simulation, StepStats, Tensor, Vector, Walls};

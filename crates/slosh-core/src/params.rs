@@ -157,6 +157,24 @@ impl ViscousOperator {
     }
 }
 
+/// Where the step runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Backend {
+    /// The CPU stages of this crate (rayon threads).
+    #[default]
+    Cpu,
+    /// A GPU through wgpu compute shaders (the `slosh-gpu` crate, attached by the front end
+    /// that builds the simulation); the modern step only.
+    Gpu,
+}
+
+impl Backend {
+    /// Whether this is [`Backend::Cpu`] (the summary leaves the default out).
+    pub fn is_cpu(&self) -> bool {
+        *self == Backend::Cpu
+    }
+}
+
 /// Time integrator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Integrator {
@@ -257,6 +275,10 @@ pub struct SphParams {
     /// pair.
     #[serde(default, skip_serializing_if = "ViscousOperator::is_strain_rate")]
     pub viscous_operator: ViscousOperator,
+    /// Where the step runs (default: the CPU). The solver itself reads it only for the
+    /// summary; a front end attaches the GPU device when it says [`Backend::Gpu`].
+    #[serde(default, skip_serializing_if = "Backend::is_cpu")]
+    pub backend: Backend,
 }
 
 /// The paper's Tait stiffness B = 1.013×10⁵ Pa (Eq. 18; c0 = 26.6 m/s with γ = 7), right for
@@ -298,6 +320,7 @@ impl Default for SphParams {
             shifting: None,
             pair_scheme: PairScheme::Standard,
             viscous_operator: ViscousOperator::StrainRate,
+            backend: Backend::Cpu,
         }
     }
 }

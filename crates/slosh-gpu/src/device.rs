@@ -48,8 +48,10 @@ pub struct GpuStep<const D: usize> {
     staging_walls: wgpu::Buffer,
     /// GPU wall order (by cell) → host wall index.
     wall_host_index: Vec<u32>,
-    /// Time of each kernel (s) when profiling, else of the whole step under "step".
+    /// Time of each kernel (s) while profiling.
     times: Vec<(String, f64)>,
+    /// Time of the whole steps (s) outside profiling.
+    step_time: f64,
     /// Submit and wait kernel by kernel, to time each (`slosh bench --backend gpu`).
     profile: bool,
 }
@@ -312,14 +314,9 @@ impl<const D: usize> GpuStep<D> {
             staging_walls,
             wall_host_index: Vec::new(),
             times,
+            step_time: 0.0,
             profile: false,
         })
-    }
-
-    /// Submits and waits for each kernel alone, so that [`StepDevice::kernel_times`] gives the
-    /// share of each (slower than one submission per step).
-    pub fn set_profiling(&mut self, on: bool) {
-        self.profile = on;
     }
 
     fn write<T: bytemuck::Pod>(&self, name: &str, data: &[T]) {
@@ -549,8 +546,7 @@ impl<const D: usize> StepDevice<D> for GpuStep<D> {
             }
         }
         if !self.profile {
-            let last = self.times.len() - 1;
-            self.times[last].1 += step_start.elapsed().as_secs_f64();
+            self.step_time += step_start.elapsed().as_secs_f64();
         }
         let mut first = Vector::<D>::zeros();
         for k in 0..D {
@@ -589,11 +585,15 @@ impl<const D: usize> StepDevice<D> for GpuStep<D> {
         Ok(())
     }
 
+    fn set_profiling(&mut self, on: bool) {
+        self.profile = on;
+    }
+
     fn kernel_times(&self) -> Vec<(String, f64)> {
         if self.profile {
             self.times.clone()
         } else {
-            vec![("step".into(), self.times.last().map_or(0.0, |t| t.1))]
+            vec![("step".into(), self.step_time)]
         }
     }
 }

@@ -3,8 +3,9 @@
 use rhai::{Dynamic, Map};
 use serde::Serialize;
 use slosh_core::{
-    ArtificialSoundSpeed, BoundaryMethod, DensityDiffusion, DensityMethod, Integrator, KernelKind,
-    NeighbourBackend, PairScheme, SoundSpeedRule, SphParams, ViscousOperator, WallPressureMethod,
+    ArtificialSoundSpeed, Backend, BoundaryMethod, DensityDiffusion, DensityMethod, Integrator,
+    KernelKind, NeighbourBackend, PairScheme, SoundSpeedRule, SphParams, ViscousOperator,
+    WallPressureMethod,
 };
 use slosh_geometry::{
     bounding_box_2d, InitialSurface, InternalSolid, RectPiece, SectionRoof, SectionShape,
@@ -1443,6 +1444,15 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, Resolut
             return Err(format!(
                 "numerics: unknown viscous_operator \"{other}\" (use \"strain_rate\" or \
                  \"monaghan_cleary\")"
+            ))
+        }
+    };
+    p.backend = match r.str_or("backend", "cpu")?.as_str() {
+        "cpu" => Backend::Cpu,
+        "gpu" => Backend::Gpu,
+        other => {
+            return Err(format!(
+                "numerics: unknown backend \"{other}\" (use \"cpu\" or \"gpu\")"
             ))
         }
     };

@@ -790,6 +790,13 @@ impl<const D: usize> Simulation<D> {
         Ok(())
     }
 
+    /// Profiling of the attached device's kernels ([`StepDevice::set_profiling`]).
+    pub fn set_device_profiling(&mut self, on: bool) {
+        if let Some(device) = self.device.as_mut() {
+            device.set_profiling(on);
+        }
+    }
+
     /// Whether the host's fluid arrays are current ([`Self::sync_host`]).
     pub fn host_is_current(&self) -> bool {
         !self.host_stale
