@@ -15,6 +15,11 @@ pub mod validate;
 
 pub use runner::{run_case, run_case_with_stop, RunOptions, Summary};
 
+/// The environment variable through which `slosh sweep --backend` and `slosh assess
+/// --backend` tell their runs where to step ("cpu" or "gpu"); `slosh run` without `--backend`
+/// reads it.
+pub const BACKEND_ENV: &str = "SLOSH_BACKEND";
+
 /// Parses `--set NAME=VALUE` arguments into the overrides of a case
 /// ([`slosh_script::parse_sets`], as an error of the command line).
 pub fn parse_sets(sets: &[String]) -> anyhow::Result<slosh_script::CaseOptions> {

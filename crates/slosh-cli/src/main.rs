@@ -183,6 +183,10 @@ struct SweepArgs {
     /// Write sweep.csv from the cases finished so far (after a --slurm job).
     #[arg(long, conflicts_with = "slurm")]
     collect: bool,
+    /// Where the cases' steps run: cpu or gpu (as `slosh run --backend`; passed to each case's
+    /// run, and to the array tasks of a Slurm job, as SLOSH_BACKEND).
+    #[arg(long, value_parser = ["cpu", "gpu"])]
+    backend: Option<String>,
 }
 
 #[derive(Args)]
@@ -282,8 +286,11 @@ fn main() -> ExitCode {
         Command::Run(args) => cmd_run(args),
         Command::Resume(args) => cmd_resume(args),
         Command::Sweep(args) => cmd_sweep(args),
-        Command::Assess(args) => parse_sets(&args.set)
-            .and_then(|sets| slosh_cli::assess::cli::cli_assess(args, sets.overrides)),
+        Command::Assess(args) => {
+            pass_backend_on(args.backend.as_deref());
+            parse_sets(&args.set)
+                .and_then(|sets| slosh_cli::assess::cli::cli_assess(args, sets.overrides))
+        }
         Command::Theory(args) => cmd_theory(args),
         Command::Bench(args) => {
             if args.backend == "gpu" {
@@ -397,9 +404,20 @@ fn cmd_run(args: RunArgs) -> Result<()> {
     Ok(())
 }
 
-/// `--backend cpu|gpu`: where the case's step runs, over what its script says.
+/// `--backend` of a sweep or an assessment: its runs (child `slosh run` processes, or the
+/// array tasks of its Slurm job, whose script exports it) read it from SLOSH_BACKEND.
+fn pass_backend_on(backend: Option<&str>) {
+    if let Some(b) = backend {
+        // Set before any thread or child starts.
+        std::env::set_var(slosh_cli::BACKEND_ENV, b);
+    }
+}
+
+/// `--backend cpu|gpu`: where the case's step runs, over what its script says; without the
+/// flag, SLOSH_BACKEND (set by a sweep or an assessment for its runs) when it names one.
 fn set_backend(case: &mut slosh_script::Case, backend: Option<&str>) {
-    match backend {
+    let from_env = std::env::var(slosh_cli::BACKEND_ENV).ok();
+    match backend.or(from_env.as_deref()) {
         Some("gpu") => case.sph.backend = slosh_core::Backend::Gpu,
         Some("cpu") => case.sph.backend = slosh_core::Backend::Cpu,
         _ => {}
@@ -478,6 +496,7 @@ fn params_table(params: &[slosh_script::ParamDecl]) -> String {
 }
 
 fn cmd_sweep(args: SweepArgs) -> Result<()> {
+    pass_backend_on(args.backend.as_deref());
     use slosh_cli::sweep_plot::{draw, SweepPlot};
     // Check the plot requests before running anything.
     let plots: Vec<SweepPlot> = args

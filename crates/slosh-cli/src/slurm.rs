@@ -150,6 +150,14 @@ pub fn batch_script(job: &JobArray, options: &SlurmOptions) -> String {
     }
     s.push_str("#SBATCH --requeue\n");
     s.push_str("#SBATCH --open-mode=append\n\n");
+    if let Ok(backend) = std::env::var(crate::BACKEND_ENV) {
+        // `--backend` of the sweep or assessment that wrote the job: its runs step there.
+        s.push_str(&format!(
+            "export {}={}\n",
+            crate::BACKEND_ENV,
+            shell_quote(&backend)
+        ));
+    }
     s.push_str("# One array task per run; each writes only its own run folder.\n");
     let mut command = vec![shell_quote(&job.exe.display().to_string())];
     command.extend(job.task_args.iter().map(|a| shell_quote(a)));

@@ -47,6 +47,10 @@ pub struct AssessArgs {
     /// missing and failed ones.
     #[arg(long, conflicts_with_all = ["case", "motions", "slurm", "set"])]
     pub collect: bool,
+    /// Where the runs' steps run: cpu or gpu (as `slosh run --backend`; passed to each run,
+    /// and to the array tasks of a Slurm job, as SLOSH_BACKEND).
+    #[arg(long, value_parser = ["cpu", "gpu"])]
+    pub backend: Option<String>,
 }
 
 /// Runs `slosh assess` with `overrides`, the parsed `--set` values.
