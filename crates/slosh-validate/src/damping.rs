@@ -417,12 +417,11 @@ pub(crate) fn at_most_check(
 }
 
 /// What is known of the modern scheme's damping gap, shown where a target is not met.
-const DAMPING_GAP: &str = "measured on the first-mode amplitude both tanks meet the target at \
-    20 per depth, and the decay is a clean exponential at every level (crest scatter ≤ 1.6 %); \
-    at 30 and 40 per depth the scheme damps the first mode more than at 20, for a reason not \
-    known yet (not the density diffusion: δ = 0.05 changed ζ by a tenth; not the square \
-    lattice's rearrangement at rest alone: its kinetic energy is 2–6 % of what the mode loses; \
-    docs/validation.md)";
+const DAMPING_GAP: &str = "with the smoothing length h = 2 dx both tanks meet the targets at \
+    every level (ζ 0.21–0.35 %, period within 0.5 %, docs/validation.md), so a miss here is a \
+    change of the scheme: with h = 1.5 dx the scheme damped the first mode more at 30 and 40 \
+    per depth than at 20 (0.45 % at 40), which the h scan traced to the smoothing length \
+    (ζ at 40 per depth falls from 1.0 % at h = 1.3 dx to 0.13 % at 2.2 dx)";
 /// What is known of the viscous gap.
 const VISCOUS_GAP: &str = "at 30 per depth the excess is not the viscous operator: the same \
     run with ν = 0 (no artificial viscosity) decays at γ = 0.088 1/s by itself (ζ = 1.63 %, \
@@ -784,11 +783,10 @@ const CYLINDER: (f64, f64) = (0.5, 0.5);
 /// (≈ 0.1 and 0.25 million particles) would take hours each on 2 cores and are not run.
 const CYLINDER_LEVELS: [usize; 2] = [15, 20];
 /// What is known of the cylinder's damping beyond the 2D tanks' at the same resolution.
-const CYLINDER_GAP: &str = "at 12 per depth the first mode damps by ζ ≈ 0.7 % in a 2D tank, \
-    1.1 % in a 3D box of the same section and 1.6 % in this cylinder (docs/validation.md): \
-    the quadratic artificial viscosity (β = 3) takes 0.45 % of it in the box and 0.19 % in the \
-    cylinder, which damps twice the box's 0.69 % without it: the curved wall on the lattice, a \
-    staircase that the flow around it crosses, is the suspected source";
+const CYLINDER_GAP: &str = "with h = 2 dx the cylinder damps by ζ = 0.48 % at 15 and 0.38 % at \
+    20 per depth (1.6 % at 12 per depth with h = 1.5 dx); what remains above the 2D tanks' \
+    0.25 % at 20 per depth is suspected to be the curved wall on the lattice, a staircase that \
+    the first mode's flow around it crosses (docs/validation.md, *Damping in 3D*)";
 
 /// Free decay of the first mode (J₁(ξ₁ r/R) cos θ) in an open upright cylinder with the
 /// modern preset, at [`CYLINDER_LEVELS`] particles per depth: ζ, period and crest scatter
