@@ -100,14 +100,20 @@ fn build_and_run(
     }
 }
 
-/// Hands the step to the GPU when the run's numerics ask for it (`backend: "gpu"`).
+/// Hands the step to the GPU when the run's numerics ask for it (`backend: "gpu"` or
+/// `"gpu_f32"`).
 fn attach_backend<const D: usize>(sim: &mut Simulation<D>) -> Result<()> {
-    if sim.params().backend != slosh_core::Backend::Gpu {
+    if sim.params().backend == slosh_core::Backend::Cpu {
         return Ok(());
     }
     #[cfg(feature = "gpu")]
     {
-        slosh_gpu::attach(sim, slosh_gpu::Precision::F64)?;
+        let precision = if sim.params().backend == slosh_core::Backend::GpuF32 {
+            slosh_gpu::Precision::F32
+        } else {
+            slosh_gpu::Precision::F64
+        };
+        slosh_gpu::attach(sim, precision)?;
         Ok(())
     }
     #[cfg(not(feature = "gpu"))]

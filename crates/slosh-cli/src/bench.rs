@@ -352,32 +352,39 @@ pub fn cli_bench_gpu(
     quick: bool,
     out: Option<PathBuf>,
     only_cases: Option<Vec<String>>,
+    single: bool,
 ) -> Result<()> {
     #[cfg(feature = "gpu")]
     {
         let cases = select_cases(quick, only_cases.as_deref())?;
         let out = out.unwrap_or_else(|| PathBuf::from("out").join("bench"));
         println!(
-            "slosh bench --backend gpu{}: {} cases, modern scheme, load average {}",
+            "slosh bench --backend {}{}: {} cases, modern scheme, load average {}",
+            if single { "gpu_f32" } else { "gpu" },
             if quick { " --quick" } else { "" },
             cases.len(),
             load_avg_line()
         );
+        let precision = if single {
+            slosh_gpu::Precision::F32
+        } else {
+            slosh_gpu::Precision::F64
+        };
         let mut lines = Vec::new();
         let mut header = String::new();
         for case in &cases {
             let (row, kernels) = match case.tank {
-                BenchTank::PaperRect2 => gpu_case::<2>(case, |layers| {
+                BenchTank::PaperRect2 => gpu_case::<2>(case, precision, |layers| {
                     Ok(RectTank2::new(1.0, 1.0, 0.5)
                         .with_layers(layers)
                         .build(case.dx)?)
                 }),
-                BenchTank::Cylinder3 => gpu_case::<3>(case, |layers| {
+                BenchTank::Cylinder3 => gpu_case::<3>(case, precision, |layers| {
                     Ok(CylinderTank::new(0.5, 0.6, 0.5, Roof::Flat)
                         .with_layers(layers)
                         .build(case.dx)?)
                 }),
-                BenchTank::RealCylinder3 => gpu_case::<3>(case, |layers| {
+                BenchTank::RealCylinder3 => gpu_case::<3>(case, precision, |layers| {
                     Ok(
                         CylinderTank::new(12.0, 16.0, 13.0, Roof::Cone { apex_height: 1.5 })
                             .with_layers(layers)
@@ -439,7 +446,7 @@ pub fn cli_bench_gpu(
     }
     #[cfg(not(feature = "gpu"))]
     {
-        let _ = (quick, out, only_cases);
+        let _ = (quick, out, only_cases, single);
         bail!("this slosh was built without the GPU backend (cargo feature \"gpu\")")
     }
 }
@@ -450,6 +457,7 @@ pub fn cli_bench_gpu(
 #[allow(clippy::type_complexity)]
 fn gpu_case<const D: usize>(
     case: &BenchCase,
+    precision: slosh_gpu::Precision,
     build: impl Fn(u8) -> Result<ParticleSetup<D>>,
 ) -> Result<(
     (String, usize, usize, usize, u64, f64, f64, f64, String),
@@ -461,7 +469,7 @@ fn gpu_case<const D: usize>(
         SphParams::modern().with_paper_stiffness()
     };
     let mut sim = Simulation::new(build(base.wall_layers())?, base)?;
-    let device = slosh_gpu::attach(&mut sim, slosh_gpu::Precision::F64)?;
+    let device = slosh_gpu::attach(&mut sim, precision)?;
     advance(&mut sim, WARMUP_STEPS)?;
     let fluid = sim.fluid().position.len();
     let particles = fluid + sim.walls().position.len();

@@ -16,7 +16,7 @@ pub mod validate;
 pub use runner::{run_case, run_case_with_stop, RunOptions, Summary};
 
 /// The environment variable through which `slosh sweep --backend` and `slosh assess
-/// --backend` tell their runs where to step ("cpu" or "gpu"); `slosh run` without `--backend`
+/// --backend` tell their runs where to step ("cpu", "gpu" or "gpu_f32"); `slosh run` without `--backend`
 /// reads it.
 pub const BACKEND_ENV: &str = "SLOSH_BACKEND";
 

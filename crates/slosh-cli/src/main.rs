@@ -58,9 +58,10 @@ struct BenchArgs {
     /// modern-riemann (the modern preset with the Riemann-solver pair).
     #[arg(long, default_value = "paper")]
     scheme: String,
-    /// Where the step runs: cpu (default) or gpu (the modern scheme on the first Vulkan
-    /// device: particle-steps/s and the share of each kernel, into bench_gpu.csv).
-    #[arg(long, value_parser = ["cpu", "gpu"], default_value = "cpu")]
+    /// Where the step runs: cpu (default), gpu or gpu_f32 (the modern scheme on the first
+    /// Vulkan device in f64 or f32: particle-steps/s and the share of each kernel, into
+    /// bench_gpu.csv).
+    #[arg(long, value_parser = ["cpu", "gpu", "gpu_f32"], default_value = "cpu")]
     backend: String,
 }
 
@@ -110,9 +111,9 @@ struct RunArgs {
     /// `slosh resume DIR` continues it.
     #[arg(long, value_name = "DURATION", default_value = "10m")]
     checkpoint_every: String,
-    /// Where the step runs: cpu, or gpu (the modern scheme on the first Vulkan device);
-    /// overrides the script's `numerics` backend.
-    #[arg(long, value_parser = ["cpu", "gpu"])]
+    /// Where the step runs: cpu, gpu (the modern scheme on the first Vulkan device, f64) or
+    /// gpu_f32 (the same in f32); overrides the script's `numerics` backend.
+    #[arg(long, value_parser = ["cpu", "gpu", "gpu_f32"])]
     backend: Option<String>,
 }
 
@@ -133,7 +134,7 @@ struct ResumeArgs {
     #[arg(long, value_name = "GB", value_parser = positive_gb)]
     max_memory: Option<f64>,
     /// Where the step runs (default: where the run started).
-    #[arg(long, value_parser = ["cpu", "gpu"])]
+    #[arg(long, value_parser = ["cpu", "gpu", "gpu_f32"])]
     backend: Option<String>,
 }
 
@@ -185,7 +186,7 @@ struct SweepArgs {
     collect: bool,
     /// Where the cases' steps run: cpu or gpu (as `slosh run --backend`; passed to each case's
     /// run, and to the array tasks of a Slurm job, as SLOSH_BACKEND).
-    #[arg(long, value_parser = ["cpu", "gpu"])]
+    #[arg(long, value_parser = ["cpu", "gpu", "gpu_f32"])]
     backend: Option<String>,
 }
 
@@ -293,8 +294,13 @@ fn main() -> ExitCode {
         }
         Command::Theory(args) => cmd_theory(args),
         Command::Bench(args) => {
-            if args.backend == "gpu" {
-                slosh_cli::bench::cli_bench_gpu(args.quick, args.out, args.case)
+            if args.backend != "cpu" {
+                slosh_cli::bench::cli_bench_gpu(
+                    args.quick,
+                    args.out,
+                    args.case,
+                    args.backend == "gpu_f32",
+                )
             } else {
                 slosh_cli::bench::cli_bench(
                     args.quick,
@@ -418,9 +424,12 @@ fn pass_backend_on(backend: Option<&str>) {
 fn set_backend(case: &mut slosh_script::Case, backend: Option<&str>) {
     let from_env = std::env::var(slosh_cli::BACKEND_ENV).ok();
     match backend.or(from_env.as_deref()) {
-        Some("gpu") => case.sph.backend = slosh_core::Backend::Gpu,
-        Some("cpu") => case.sph.backend = slosh_core::Backend::Cpu,
-        _ => {}
+        Some(name) => {
+            if let Some(b) = slosh_core::Backend::from_name(name) {
+                case.sph.backend = b;
+            }
+        }
+        None => {}
     }
 }
 

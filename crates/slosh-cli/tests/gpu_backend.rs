@@ -1,7 +1,7 @@
-//! `--backend gpu` end to end: the same case run on the GPU backend and on the CPU gives the
-//! same free-sloshing period and damping and the same roof impact, its summary names the
-//! device, a sweep passes the backend on to its cases, and without a Vulkan device the run
-//! stops with a message that names the fix.
+//! `--backend gpu` (f64) and `gpu_f32` end to end: the same case run on the GPU backend and on
+//! the CPU gives the same free-sloshing period and damping and the same roof impact, its
+//! summary names the device and the precision, a sweep passes the backend on to its cases,
+//! and without a Vulkan device the run stops with a message that names the fix.
 //!
 //! Where no GPU is present the GPU runs use Mesa's software Vulkan device (lavapipe, which
 //! offers the 64-bit floats the shaders need; `.ci/run` installs it). On a machine with no
@@ -97,18 +97,31 @@ fn device(summary: &str) -> String {
         .to_string()
 }
 
-/// Relative agreement of the backends (see the module docs for why 1e-6).
+/// Relative agreement of the f64 GPU backend with the CPU (see the module docs for why 1e-6).
 const BACKEND_AGREEMENT: f64 = 1e-6;
 
-fn assert_close(name: &str, cpu: f64, gpu: f64) {
+/// Relative agreement of the f32 GPU backend with the CPU: 1 %. f32 round-off (≈ 1e-5 of a
+/// particle's acceleration per step, `crates/slosh-gpu/tests/gpu_against_cpu.rs`) grows over
+/// the thousands of steps of these runs into differences of 1e-5 (the period) to 2e-3 (the
+/// filtered roof force) of the results (measured); 1 % leaves room over that and is still
+/// far inside the validation suite's tolerances (1.5 % on the period at this resolution, 20 %
+/// on impact pressures), so an f32 run answers the engineering question as the f64 run does.
+const F32_AGREEMENT: f64 = 1e-2;
+
+fn assert_close_within(name: &str, cpu: f64, gpu: f64, bound: f64) {
     let rel = (gpu - cpu).abs() / cpu.abs().max(1e-300);
-    assert!(rel <= BACKEND_AGREEMENT, "{name}: cpu {cpu}, gpu {gpu} (rel {rel:.2e})");
+    assert!(rel <= bound, "{name}: cpu {cpu}, gpu {gpu} (rel {rel:.2e}, bound {bound:e})");
+}
+
+fn assert_close(name: &str, cpu: f64, gpu: f64) {
+    assert_close_within(name, cpu, gpu, BACKEND_AGREEMENT);
 }
 
 /// Free decay of the first mode in the 1.0 m × 0.5 m tank at 10 particles per depth for three
 /// periods: the GPU's period within 1.5 % of potential theory (the damping stage holds 1 %
 /// at 20 per depth; at 10 per depth the period has converged to well under 1 %, measured
-/// +0.7 %), and its period and damping ratio those of the CPU run.
+/// +0.7 %), and its period and damping ratio those of the CPU run; the same in f32 within
+/// [`F32_AGREEMENT`].
 #[test]
 fn free_decay_period_and_damping_match_the_cpu() {
     let dir = temp("free_decay");
@@ -116,7 +129,18 @@ fn free_decay_period_and_damping_match_the_cpu() {
     let Some(gpu) = run("scripts/free_decay_2d.rhai", &sets, "gpu", &dir.join("gpu")) else {
         return;
     };
+    let f32_run = run("scripts/free_decay_2d.rhai", &sets, "gpu_f32", &dir.join("f32")).unwrap();
     let cpu = run("scripts/free_decay_2d.rhai", &sets, "cpu", &dir.join("cpu")).unwrap();
+    assert!(
+        device(&f32_run).contains("f32 (positions relative to their cell)"),
+        "{}",
+        device(&f32_run)
+    );
+    let error = number(&f32_run, "period_error");
+    assert!(error.abs() < 0.015, "GPU f32 period {error:+.4} from theory");
+    for name in ["period_first_mode", "zeta_first_mode", "max_eta_left"] {
+        assert_close_within(name, number(&cpu, name), number(&f32_run, name), F32_AGREEMENT);
+    }
     assert!(device(&gpu).contains("Vulkan"), "{}", device(&gpu));
     assert!(device(&gpu).ends_with("f64\","), "{}", device(&gpu));
     assert_eq!(device(&cpu), "\"cpu\",");
@@ -129,7 +153,8 @@ fn free_decay_period_and_damping_match_the_cpu() {
 
 /// The paper's roofed tank (clearance 0.1 m) under its resonant sine with the modern preset,
 /// sound speed from the tank, dx = 0.025 m: the liquid reaches the roof 1 s after the start and
-/// peaks at ≈ 15 kPa; the GPU's roof peak, roof force and wave heights those of the CPU.
+/// peaks at ≈ 15 kPa; the GPU's roof peak, roof force and wave heights those of the CPU (f32:
+/// within [`F32_AGREEMENT`]).
 #[test]
 fn roof_impact_matches_the_cpu() {
     let dir = temp("roof_impact");
@@ -143,6 +168,7 @@ fn roof_impact_matches_the_cpu() {
     let Some(gpu) = run("scripts/paper_2d_roof.rhai", &sets, "gpu", &dir.join("gpu")) else {
         return;
     };
+    let f32_run = run("scripts/paper_2d_roof.rhai", &sets, "gpu_f32", &dir.join("f32")).unwrap();
     let cpu = run("scripts/paper_2d_roof.rhai", &sets, "cpu", &dir.join("cpu")).unwrap();
     assert!(number(&cpu, "max_roof_p") > 1000.0, "no roof impact:\n{cpu}");
     for name in [
@@ -153,6 +179,7 @@ fn roof_impact_matches_the_cpu() {
         "max_eta_right",
     ] {
         assert_close(name, number(&cpu, name), number(&gpu, name));
+        assert_close_within(name, number(&cpu, name), number(&f32_run, name), F32_AGREEMENT);
     }
 }
 

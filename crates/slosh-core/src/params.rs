@@ -164,14 +164,26 @@ pub enum Backend {
     #[default]
     Cpu,
     /// A GPU through wgpu compute shaders (the `slosh-gpu` crate, attached by the front end
-    /// that builds the simulation); the modern step only.
+    /// that builds the simulation) in f64; the modern step only.
     Gpu,
+    /// The same in f32, positions kept relative to their cell.
+    GpuF32,
 }
 
 impl Backend {
     /// Whether this is [`Backend::Cpu`] (the summary leaves the default out).
     pub fn is_cpu(&self) -> bool {
         *self == Backend::Cpu
+    }
+
+    /// The backend of a script or command-line name: "cpu", "gpu" (f64) or "gpu_f32".
+    pub fn from_name(name: &str) -> Option<Backend> {
+        match name {
+            "cpu" => Some(Backend::Cpu),
+            "gpu" => Some(Backend::Gpu),
+            "gpu_f32" => Some(Backend::GpuF32),
+            _ => None,
+        }
     }
 }
 

@@ -63,8 +63,10 @@ struct Kernel {
     groups: u32,
 }
 
-/// The buffers of the step: (name, element size in bytes, elements).
+/// The buffers of the step: (name, element size in bytes, elements); reals take `real`
+/// bytes (8 or 4).
 fn buffer_list(c: &ShaderConstants) -> Vec<(&'static str, u64, u64)> {
+    let real = real_bytes(c);
     let (n, nw, nc, d) = (
         c.n_fluid as u64,
         c.n_wall.max(1) as u64,
@@ -73,34 +75,37 @@ fn buffer_list(c: &ShaderConstants) -> Vec<(&'static str, u64, u64)> {
     );
     let groups = partial_groups(c.n_fluid) as u64;
     vec![
-        ("pos", 8, d * n),
-        ("vel", 8, d * n),
-        ("vel_n", 8, d * n),
-        ("acc", 8, d * n),
-        ("rho", 8, n),
-        ("rho_n", 8, n),
-        ("drho", 8, n),
-        ("p", 8, n),
-        ("rho_h", 8, n),
+        ("pos", real, d * n),
+        ("pcell", 4, d * n),
+        ("vel", real, d * n),
+        ("vel_n", real, d * n),
+        ("acc", real, d * n),
+        ("rho", real, n),
+        ("rho_n", real, n),
+        ("drho", real, n),
+        ("p", real, n),
+        ("rho_h", real, n),
         ("id", 4, n),
         ("cell", 4, n),
         ("order", 4, n),
-        ("pos2", 8, d * n),
-        ("vel2", 8, d * n),
-        ("vel_n2", 8, d * n),
-        ("rho2", 8, n),
-        ("rho_n2", 8, n),
+        ("pos2", real, d * n),
+        ("pcell2", 4, d * n),
+        ("vel2", real, d * n),
+        ("vel_n2", real, d * n),
+        ("rho2", real, n),
+        ("rho_n2", real, n),
         ("id2", 4, n),
         ("count", 4, nc),
         ("cursor", 4, nc),
         ("start", 4, nc + 1),
-        ("wall_pos", 8, d * nw),
+        ("wall_pos", real, d * nw),
+        ("wall_cell", 4, d * nw),
         ("wall_start", 4, nc + 1),
-        ("wall_state", 8, 2 * nw),
-        ("partial", 8, 2 * groups),
-        ("state", 8, STATE_WORDS as u64),
+        ("wall_state", real, 2 * nw),
+        ("partial", real, 2 * groups),
+        ("state", real, STATE_WORDS as u64),
         ("flags", 4, FLAG_WORDS as u64),
-        ("body", 8, d),
+        ("body", real, d),
     ]
 }
 
@@ -109,10 +114,29 @@ fn flat<const D: usize>(v: &[Vector<D>]) -> Vec<f64> {
     v.iter().flat_map(|x| x.iter().copied()).collect()
 }
 
+/// Bytes of one real of the device (8 for f64, 4 for f32).
+fn real_bytes(c: &ShaderConstants) -> u64 {
+    if c.single {
+        4
+    } else {
+        8
+    }
+}
+
+/// Reals of the device read back as f64.
+fn reals_from_bytes(raw: &[u8], single: bool) -> Vec<f64> {
+    if single {
+        let v: &[f32] = bytemuck::cast_slice(raw);
+        v.iter().map(|&x| x as f64).collect()
+    } else {
+        bytemuck::cast_slice::<u8, f64>(raw).to_vec()
+    }
+}
+
 impl<const D: usize> GpuStep<D> {
     /// The step of `setup`'s simulation on the first Vulkan adapter in `precision`.
     pub fn new(setup: &DeviceSetup<'_, D>, precision: Precision) -> Result<Self, GpuError> {
-        let Precision::F64 = precision;
+        let single = precision == Precision::F32;
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
             backends: wgpu::Backends::VULKAN,
             ..wgpu::InstanceDescriptor::new_without_display_handle()
@@ -124,13 +148,18 @@ impl<const D: usize> GpuStep<D> {
         .map_err(|e| GpuError::NoDevice(format!(" ({e})")))?;
         let info = adapter.get_info();
         let name = format!("{} ({:?}, {})", info.name, info.backend, info.driver_info);
-        if !adapter.features().contains(wgpu::Features::SHADER_F64) {
+        let features = if single {
+            wgpu::Features::empty()
+        } else {
+            wgpu::Features::SHADER_F64
+        };
+        if !adapter.features().contains(features) {
             return Err(GpuError::NoF64(name));
         }
         let limits = adapter.limits();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("slosh"),
-            required_features: wgpu::Features::SHADER_F64,
+            required_features: features,
             required_limits: limits.clone(),
             ..Default::default()
         }))
@@ -180,6 +209,7 @@ impl<const D: usize> GpuStep<D> {
             n_fluid: setup.fluid.position.len() as u32,
             n_wall: setup.walls.position.len() as u32,
             n_cells,
+            single,
         };
         let most_bindings = [KernelId::Gather, KernelId::Forces]
             .iter()
@@ -286,7 +316,8 @@ impl<const D: usize> GpuStep<D> {
                 groups,
             });
         }
-        let step_bytes = (STATE_WORDS * 8 + FLAG_WORDS * 4).div_ceil(8) as u64 * 8;
+        let real = real_bytes(&constants);
+        let step_bytes = (STATE_WORDS as u64 * real + FLAG_WORDS as u64 * 4).div_ceil(8) * 8;
         let staging_step = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("staging step"),
             size: step_bytes,
@@ -295,7 +326,7 @@ impl<const D: usize> GpuStep<D> {
         });
         let staging_walls = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("staging walls"),
-            size: 16 * constants.n_wall.max(1) as u64,
+            size: (2 * real * constants.n_wall.max(1) as u64).div_ceil(8) * 8,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -306,7 +337,11 @@ impl<const D: usize> GpuStep<D> {
         Ok(GpuStep {
             device,
             queue,
-            name: format!("{name}, f64"),
+            name: if single {
+                format!("{name}, f32 (positions relative to their cell)")
+            } else {
+                format!("{name}, f64")
+            },
             constants,
             buffers,
             kernels,
@@ -317,6 +352,50 @@ impl<const D: usize> GpuStep<D> {
             step_time: 0.0,
             profile: false,
         })
+    }
+
+    /// Writes reals into buffer `name` in the device's precision.
+    fn write_reals(&self, name: &str, data: &[f64]) {
+        if self.constants.single {
+            let v: Vec<f32> = data.iter().map(|&x| x as f32).collect();
+            self.write(name, &v);
+        } else {
+            self.write(name, data);
+        }
+    }
+
+    /// Reads `count` reals of buffer `name` back as f64.
+    fn read_reals(&self, name: &str, count: usize) -> Result<Vec<f64>, SimError> {
+        let bytes = count as u64 * real_bytes(&self.constants);
+        Ok(reals_from_bytes(&self.read(name, bytes)?, self.constants.single))
+    }
+
+    /// A point as the kernels store it: its cell's coordinates in the grid (clamped into it,
+    /// as the kernels clamp) and its offset from the cell's corner (m).
+    fn relative(&self, x: &Vector<D>) -> ([i32; D], [f64; D]) {
+        let c = &self.constants;
+        let mut cell = [0i32; D];
+        let mut offset = [0.0; D];
+        for k in 0..D {
+            let q = ((x[k] - c.domain_min[k]) / c.support).floor();
+            let q = q.clamp(0.0, (c.dims[k] - 1) as f64) as i32;
+            cell[k] = q;
+            offset[k] = x[k] - (c.domain_min[k] + q as f64 * c.support);
+        }
+        (cell, offset)
+    }
+
+    /// Writes points into the offset buffer `pos` and the cell buffer `cell`.
+    fn write_points(&self, pos: &str, cell: &str, points: &[Vector<D>]) {
+        let mut cells = Vec::with_capacity(D * points.len());
+        let mut offsets = Vec::with_capacity(D * points.len());
+        for x in points {
+            let (c, o) = self.relative(x);
+            cells.extend_from_slice(&c);
+            offsets.extend_from_slice(&o);
+        }
+        self.write(cell, &cells);
+        self.write_reals(pos, &offsets);
     }
 
     fn write<T: bytemuck::Pod>(&self, name: &str, data: &[T]) {
@@ -366,15 +445,14 @@ impl<const D: usize> GpuStep<D> {
         SimError::InvalidSetup(format!("the GPU device {} failed: {what}", self.name))
     }
 
-    /// The cell of a wall particle, as the kernels compute it.
+    /// The index of the cell of a wall particle, as the kernels number cells.
     fn cell_of(&self, x: &Vector<D>) -> u32 {
         let c = &self.constants;
+        let (cell, _) = self.relative(x);
         let mut index = 0u32;
         let mut stride = 1u32;
         for k in 0..D {
-            let q = ((x[k] - c.domain_min[k]) / c.support).floor();
-            let q = (q.max(0.0) as u32).min(c.dims[k] - 1);
-            index += q * stride;
+            index += cell[k] as u32 * stride;
             stride *= c.dims[k];
         }
         index
@@ -394,6 +472,7 @@ impl<const D: usize> GpuStep<D> {
     fn encode_gather_copies(&self, encoder: &mut wgpu::CommandEncoder) {
         for (from, to) in [
             ("pos2", "pos"),
+            ("pcell2", "pcell"),
             ("vel2", "vel"),
             ("vel_n2", "vel_n"),
             ("rho2", "rho"),
@@ -418,12 +497,12 @@ impl<const D: usize> StepDevice<D> for GpuStep<D> {
         {
             return Err(self.fail("the particle counts changed since the device was built".into()));
         }
-        self.write("pos", &flat(&f.position));
-        self.write("vel", &flat(&f.velocity));
-        self.write("acc", &flat(&f.acceleration));
-        self.write("rho", &f.density);
-        self.write("drho", &f.density_rate);
-        self.write("p", &f.pressure);
+        self.write_points("pos", "pcell", &f.position);
+        self.write_reals("vel", &flat(&f.velocity));
+        self.write_reals("acc", &flat(&f.acceleration));
+        self.write_reals("rho", &f.density);
+        self.write_reals("drho", &f.density_rate);
+        self.write_reals("p", &f.pressure);
         self.write("id", &f.id);
         // Walls sorted by cell once (they never move), with where each cell's start.
         let walls = setup.walls;
@@ -442,17 +521,12 @@ impl<const D: usize> StepDevice<D> for GpuStep<D> {
         for c in 0..n_cells {
             wall_start[c + 1] += wall_start[c];
         }
-        let wall_pos: Vec<f64> = keyed
+        let wall_pos: Vec<Vector<D>> = keyed
             .iter()
-            .flat_map(|&(_, w)| {
-                walls.position[w as usize]
-                    .iter()
-                    .copied()
-                    .collect::<Vec<_>>()
-            })
+            .map(|&(_, w)| walls.position[w as usize])
             .collect();
         self.wall_host_index = keyed.iter().map(|&(_, w)| w).collect();
-        self.write("wall_pos", &wall_pos);
+        self.write_points("wall_pos", "wall_cell", &wall_pos);
         self.write("wall_start", &wall_start);
         let state: Vec<f64> = walls
             .pressure
@@ -466,7 +540,7 @@ impl<const D: usize> StepDevice<D> for GpuStep<D> {
             .iter()
             .flat_map(|&w| [state[2 * w as usize], state[2 * w as usize + 1]])
             .collect();
-        self.write("wall_state", &sorted_state);
+        self.write_reals("wall_state", &sorted_state);
         self.queue.submit([]);
         Ok(())
     }
@@ -477,7 +551,7 @@ impl<const D: usize> StepDevice<D> for GpuStep<D> {
         walls: &mut Walls<D>,
     ) -> Result<DeviceStepReport<D>, SimError> {
         let body: Vec<f64> = body_force.iter().copied().collect();
-        self.write("body", &body);
+        self.write_reals("body", &body);
         let step_start = Instant::now();
         if self.profile {
             for k in 0..self.kernels.len() {
@@ -503,7 +577,8 @@ impl<const D: usize> StepDevice<D> for GpuStep<D> {
                 }
             }
         }
-        let state_bytes = (STATE_WORDS * 8) as u64;
+        let real = real_bytes(&self.constants);
+        let state_bytes = STATE_WORDS as u64 * real;
         encoder.copy_buffer_to_buffer(
             &self.buffers["state"],
             0,
@@ -518,7 +593,7 @@ impl<const D: usize> StepDevice<D> for GpuStep<D> {
             state_bytes,
             (FLAG_WORDS * 4) as u64,
         );
-        let wall_bytes = 16 * self.constants.n_wall as u64;
+        let wall_bytes = 2 * real * self.constants.n_wall as u64;
         if wall_bytes > 0 {
             encoder.copy_buffer_to_buffer(
                 &self.buffers["wall_state"],
@@ -531,12 +606,13 @@ impl<const D: usize> StepDevice<D> for GpuStep<D> {
         self.queue.submit([encoder.finish()]);
         let step_bytes = self.staging_step.size();
         let raw = self.map_read(&self.staging_step, step_bytes)?;
-        let words: &[f64] = bytemuck::cast_slice(&raw[..STATE_WORDS * 8]);
-        let flags: &[u32] =
-            bytemuck::cast_slice(&raw[STATE_WORDS * 8..STATE_WORDS * 8 + FLAG_WORDS * 4]);
+        let single = self.constants.single;
+        let state_end = state_bytes as usize;
+        let words = reals_from_bytes(&raw[..state_end], single);
+        let flags: &[u32] = bytemuck::cast_slice(&raw[state_end..state_end + FLAG_WORDS * 4]);
         if wall_bytes > 0 {
             let raw_walls = self.map_read(&self.staging_walls, wall_bytes)?;
-            let state: &[f64] = bytemuck::cast_slice(&raw_walls);
+            let state = reals_from_bytes(&raw_walls, single);
             for (k, &w) in self.wall_host_index.iter().enumerate() {
                 let (p, rho) = (state[2 * k], state[2 * k + 1]);
                 let w = w as usize;
@@ -564,22 +640,30 @@ impl<const D: usize> StepDevice<D> for GpuStep<D> {
 
     fn download(&mut self, fluid: &mut Fluid<D>) -> Result<(), SimError> {
         let n = self.constants.n_fluid as usize;
-        let vector = |raw: Vec<u8>| -> Vec<Vector<D>> {
-            let v: &[f64] = bytemuck::cast_slice(&raw);
+        let vector = |v: Vec<f64>| -> Vec<Vector<D>> {
             (0..n)
                 .map(|i| Vector::<D>::from_fn(|k, _| v[D * i + k]))
                 .collect()
         };
-        let scalar = |raw: Vec<u8>| -> Vec<f64> { bytemuck::cast_slice(&raw).to_vec() };
-        let (vb, sb) = ((8 * D * n) as u64, (8 * n) as u64);
-        fluid.position = vector(self.read("pos", vb)?);
-        fluid.velocity = vector(self.read("vel", vb)?);
+        // Positions: the cell's corner plus the offset, in f64.
+        let offsets = self.read_reals("pos", D * n)?;
+        let raw_cells = self.read("pcell", (4 * D * n) as u64)?;
+        let cells: &[i32] = bytemuck::cast_slice(&raw_cells);
+        let c = &self.constants;
+        fluid.position = (0..n)
+            .map(|i| {
+                Vector::<D>::from_fn(|k, _| {
+                    c.domain_min[k] + cells[D * i + k] as f64 * c.support + offsets[D * i + k]
+                })
+            })
+            .collect();
+        fluid.velocity = vector(self.read_reals("vel", D * n)?);
         fluid.velocity_half.clone_from(&fluid.velocity);
-        fluid.acceleration = vector(self.read("acc", vb)?);
-        fluid.density = scalar(self.read("rho", sb)?);
+        fluid.acceleration = vector(self.read_reals("acc", D * n)?);
+        fluid.density = self.read_reals("rho", n)?;
         fluid.inverse_density = fluid.density.iter().map(|r| 1.0 / r).collect();
-        fluid.pressure = scalar(self.read("p", sb)?);
-        fluid.density_rate = scalar(self.read("drho", sb)?);
+        fluid.pressure = self.read_reals("p", n)?;
+        fluid.density_rate = self.read_reals("drho", n)?;
         let ids = self.read("id", (4 * n) as u64)?;
         fluid.id = bytemuck::cast_slice(&ids).to_vec();
         Ok(())

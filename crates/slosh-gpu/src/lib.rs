@@ -1,5 +1,6 @@
 //! The GPU backend of slosh: the modern step of `slosh-core` as wgpu compute shaders (WGSL),
-//! in double precision where the device offers it (`wgpu::Features::SHADER_F64`).
+//! in double precision where the device offers it (`wgpu::Features::SHADER_F64`) or in single
+//! precision with positions relative to their cell ([`Precision`]).
 //!
 //! [`attach`] hands a built [`slosh_core::Simulation`] to the first Vulkan device: every later
 //! step runs there (`shader.rs` has the kernels, `device.rs` the buffers and the dispatch);
@@ -22,6 +23,9 @@ use slosh_core::{SimError, Simulation};
 pub enum Precision {
     /// f64 throughout (needs `SHADER_F64`).
     F64,
+    /// f32 throughout, positions kept as an offset from the particle's cell (so their
+    /// round-off is ≈ 1e-7 of the cell, 2h, whatever the tank's size); runs on any device.
+    F32,
 }
 
 /// Builds the device step for `sim` on the first Vulkan adapter and attaches it; returns the

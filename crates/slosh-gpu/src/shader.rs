@@ -1,7 +1,18 @@
-//! The WGSL source of each kernel of the step, generated for the dimension D (2 or 3) with the
-//! run's constants written in as `const` values (a run compiles its kernels once). Vectors are
-//! stored as D consecutive f64 values (`array<f64>`, particle i at D·i); each kernel declares
-//! only the buffers it binds, in the order of its binding list in `device.rs`.
+//! The WGSL source of each kernel of the step, generated for the dimension D (2 or 3) and the
+//! precision (the real type `R`, f64 or f32) with the run's constants written in as `const`
+//! values (a run compiles its kernels once). Vectors are stored as D consecutive values
+//! (`array<R>`, particle i at D·i); each kernel declares only the buffers it binds, in the order
+//! of its binding list in `device.rs`.
+//!
+//! Positions are stored relative to the particle's cell of the neighbour grid: the cell's
+//! integer coordinates (`pcell`, `wall_cell`) and the offset from the cell's corner (`pos`,
+//! `wall_pos`), the way the GPU SPH codes DualSPHysics and GPUSPH store them. A distance between two
+//! particles is the difference of their offsets plus the whole cells between theirs (every
+//! particle of a cell is stored relative to that cell, so a pair loop over a neighbour cell
+//! adds that shift once and reads no cell per neighbour), so its round-off
+//! is that of the offsets, a few ulps of the cell size 2h, wherever the tank stands and however
+//! large it is; in f32 that is ≈ 1e-7 of the cell, where absolute f32 positions in an 80 m tank
+//! would carry ≈ 5e-6 m. The corrector and the sort move a particle to its new cell.
 //!
 //! The physics is that of the CPU's modern step, term for term (`slosh-core`, `docs/scheme.md`):
 //! Wendland C2 kernel, Tait EOS, Adami walls (their Eq. 27) floored at zero, Eq. 8's pressure
@@ -45,6 +56,8 @@ pub(crate) struct ShaderConstants {
     pub(crate) n_fluid: u32,
     pub(crate) n_wall: u32,
     pub(crate) n_cells: u32,
+    /// Single precision (f32) instead of f64.
+    pub(crate) single: bool,
 }
 
 /// Threads per workgroup of every kernel.
@@ -104,7 +117,12 @@ impl KernelId {
                 ("rho_n", false),
                 ("drho", true),
             ],
-            KernelId::CellCount => &[("pos", true), ("cell", false), ("count", false)],
+            KernelId::CellCount => &[
+                ("pos", false),
+                ("pcell", false),
+                ("cell", false),
+                ("count", false),
+            ],
             KernelId::CellScan => &[("count", false), ("start", false), ("cursor", false)],
             KernelId::CellScatter => &[("cell", true), ("cursor", false), ("order", false)],
             KernelId::CellOrder => &[("start", true), ("id", true), ("order", false)],
@@ -116,16 +134,22 @@ impl KernelId {
                 ("rho", true),
                 ("rho_n", true),
                 ("id", true),
+                ("pcell", true),
                 ("pos2", false),
                 ("vel2", false),
                 ("vel_n2", false),
                 ("rho2", false),
                 ("rho_n2", false),
                 ("id2", false),
+                ("pcell2", false),
             ],
-            KernelId::Hydrostatic => {
-                &[("pos", true), ("rho", true), ("rho_h", false), ("p", false)]
-            }
+            KernelId::Hydrostatic => &[
+                ("pos", true),
+                ("pcell", true),
+                ("rho", true),
+                ("rho_h", false),
+                ("p", false),
+            ],
             KernelId::Walls => &[
                 ("body", true),
                 ("start", true),
@@ -133,12 +157,14 @@ impl KernelId {
                 ("rho", true),
                 ("p", true),
                 ("wall_pos", true),
+                ("wall_cell", true),
                 ("wall_state", false),
             ],
             KernelId::Forces => &[
                 ("body", true),
                 ("start", true),
                 ("pos", true),
+                ("pcell", true),
                 ("vel", true),
                 ("rho", true),
                 ("p", true),
@@ -152,6 +178,7 @@ impl KernelId {
             KernelId::Corrector => &[
                 ("state", true),
                 ("pos", false),
+                ("pcell", true),
                 ("vel", false),
                 ("vel_n", true),
                 ("acc", true),
@@ -161,7 +188,12 @@ impl KernelId {
                 ("p", false),
                 ("flags", false),
             ],
-            KernelId::FirstOutside => &[("pos", true), ("flags", true), ("state", false)],
+            KernelId::FirstOutside => &[
+                ("pos", true),
+                ("pcell", true),
+                ("flags", true),
+                ("state", false),
+            ],
         }
     }
 
@@ -192,7 +224,7 @@ pub(crate) fn partial_groups(n: u32) -> u32 {
     n.div_ceil(WIDE).max(1)
 }
 
-/// Words of the `state` buffer (f64): dt, max |v|, max |a|, the first particle outside (3).
+/// Words of the `state` buffer (R): dt, max |v|, max |a|, the first particle outside (3).
 pub(crate) const STATE_WORDS: usize = 6;
 /// Words of the `flags` buffer (u32): non-finite count, outside count, first outside slot.
 pub(crate) const FLAG_WORDS: usize = 3;
@@ -210,7 +242,8 @@ fn lit(x: f64) -> String {
 /// The shared part of every kernel: constants, the vector type and the helpers.
 fn prelude(c: &ShaderConstants) -> String {
     let d = c.dim;
-    let v = if d == 2 { "vec2<f64>" } else { "vec3<f64>" };
+    let real = if c.single { "f32" } else { "f64" };
+    let v = if d == 2 { "vec2<R>" } else { "vec3<R>" };
     let vi = if d == 2 { "vec2<i32>" } else { "vec3<i32>" };
     let pi = std::f64::consts::PI;
     let norm = if d == 2 {
@@ -219,7 +252,7 @@ fn prelude(c: &ShaderConstants) -> String {
         21.0 / (16.0 * pi * c.h * c.h * c.h)
     };
     let mut s = String::new();
-    s += &format!("alias V = {v};\nalias VI = {vi};\nconst D: u32 = {d}u;\n");
+    s += &format!("alias R = {real};\nalias V = {v};\nalias VI = {vi};\nconst D: u32 = {d}u;\n");
     for (name, value) in [
         ("H", c.h),
         ("INV_H", 1.0 / c.h),
@@ -242,8 +275,11 @@ fn prelude(c: &ShaderConstants) -> String {
         ("GRAVITY", c.gravity),
         ("CELL", c.support),
     ] {
-        s += &format!("const {name}: f64 = {};\n", lit(value));
+        s += &format!("const {name}: R = {};\n", lit(value));
     }
+    // The smallest distance a pair is evaluated at and the largest finite state, in R.
+    let (tiny, huge) = if c.single { (1e-30, 1e30) } else { (1e-150, 1e300) };
+    s += &format!("const TINY: R = {};\nconst HUGE: R = {};\n", lit(tiny), lit(huge));
     s += &format!("const GAMMA: u32 = {}u;\n", c.gamma);
     s += &format!(
         "const WIDE: u32 = {WIDE}u;\nconst WIDE_HALF: u32 = {}u;\n",
@@ -262,7 +298,7 @@ fn prelude(c: &ShaderConstants) -> String {
     );
     let comps = |a: [f64; 3]| {
         (0..d)
-            .map(|k| format!("f64({})", lit(a[k])))
+            .map(|k| format!("R({})", lit(a[k])))
             .collect::<Vec<_>>()
             .join(", ")
     };
@@ -288,65 +324,65 @@ fn prelude(c: &ShaderConstants) -> String {
          fn inside_grid(c: VI) -> bool { return all(c >= VI(0)) && all(c < DIMS); }\n"
     };
     s += r#"
-// The cell of a point, clamped into the grid (a particle outside the domain is a blow-up,
-// reported by the corrector).
-fn cell_of(x: V) -> VI {
-    let q = floor((x - LO) / CELL);
-    return clamp(VI(q), VI(0), DIMS - VI(1));
+// The absolute position of a point given as (offset, cell) (for the depth and the domain
+// check, where the round-off of an absolute coordinate does no harm).
+fn absolute(x: V, c: VI) -> V {
+    return LO + V(c) * CELL + x;
 }
 
 // Eq. 18: Tait EOS p = B((ρ/ρ0)^γ − 1), γ a whole number.
-fn eos(rho: f64) -> f64 {
+fn eos(rho: R) -> R {
     let r = rho / RHO0;
     var power = r;
     for (var k = 1u; k < GAMMA; k++) { power = power * r; }
-    return EOS_B * (power - f64(1.0));
+    return EOS_B * (power - R(1.0));
 }
 
 // y^(1/n) for y > 0: a single-precision start refined by Newton's method on x^n = y
 // (each step squares the relative error: 1e-7 → 1e-14 → round-off).
-fn root(y: f64, n: u32) -> f64 {
-    var x = f64(pow(f32(y), 1.0 / f32(n)));
+fn root(y: R, n: u32) -> R {
+    var x = R(pow(f32(y), 1.0 / f32(n)));
     for (var it = 0u; it < 3u; it++) {
-        var xn1 = f64(1.0);
+        var xn1 = R(1.0);
         for (var k = 1u; k < n; k++) { xn1 = xn1 * x; }
-        x = x - (xn1 * x - y) / (f64(n) * xn1);
+        x = x - (xn1 * x - y) / (R(n) * xn1);
     }
     return x;
 }
 
 // The inverse EOS ρ0 (1 + p/B)^(1/γ) (the base floored at 1e-6, as the CPU's).
-fn density_of(p: f64) -> f64 {
-    return RHO0 * root(max(f64(1.0) + p / EOS_B, f64(1e-6)), GAMMA);
+fn density_of(p: R) -> R {
+    return RHO0 * root(max(R(1.0) + p / EOS_B, R(1e-6)), GAMMA);
 }
 
 // Wendland C2: W = NORM (1 − q/2)^4 (2q + 1) for q = r/h < 2.
-fn kernel_value(r: f64) -> f64 {
+fn kernel_value(r: R) -> R {
     let q = r * INV_H;
-    let t = max(f64(1.0) - f64(0.5) * q, f64(0.0));
+    let t = max(R(1.0) - R(0.5) * q, R(0.0));
     let t2 = t * t;
-    return NORM * t2 * t2 * (f64(2.0) * q + f64(1.0));
+    return NORM * t2 * t2 * (R(2.0) * q + R(1.0));
 }
 
 // (dW/dr)/r = −5 NORM (1 − q/2)^3 / h².
-fn gradient_factor(r: f64) -> f64 {
+fn gradient_factor(r: R) -> R {
     let q = r * INV_H;
-    let t = max(f64(1.0) - f64(0.5) * q, f64(0.0));
-    return f64(-5.0) * NORM * t * t * t * INV_H * INV_H;
+    let t = max(R(1.0) - R(0.5) * q, R(0.0));
+    return R(-5.0) * NORM * t * t * t * INV_H * INV_H;
 }
 "#;
     s
 }
 
-/// Loads and stores of a vector buffer `name` (D consecutive f64).
+/// Loads and stores of a vector buffer `name` (D consecutive values).
 fn vec_access(name: &str, d: usize, write: bool) -> String {
     let comps = (0..d)
         .map(|k| format!("{name}[D * i + {k}u]"))
         .collect::<Vec<_>>()
         .join(", ");
-    let mut s = format!("fn get_{name}(i: u32) -> V {{ return V({comps}); }}\n");
+    let ty = if is_cell(name) { "VI" } else { "V" };
+    let mut s = format!("fn get_{name}(i: u32) -> {ty} {{ return {ty}({comps}); }}\n");
     if write {
-        s += &format!("fn set_{name}(i: u32, v: V) {{ ");
+        s += &format!("fn set_{name}(i: u32, v: {ty}) {{ ");
         for k in 0..d {
             s += &format!("{name}[D * i + {k}u] = v[{k}]; ");
         }
@@ -360,8 +396,14 @@ fn element(name: &str) -> &'static str {
     match name {
         "cell" | "order" | "id" | "id2" | "start" | "wall_start" => "u32",
         "count" | "cursor" | "flags" => "atomic<u32>",
-        _ => "f64",
+        n if is_cell(n) => "i32",
+        _ => "R",
     }
+}
+
+/// The buffers of cell coordinates (D i32 per particle).
+pub(crate) fn is_cell(name: &str) -> bool {
+    matches!(name, "pcell" | "pcell2" | "wall_cell")
 }
 
 /// Vector buffers (D values per particle).
@@ -369,6 +411,7 @@ fn is_vector(name: &str) -> bool {
     matches!(
         name,
         "pos" | "vel" | "vel_n" | "acc" | "pos2" | "vel2" | "vel_n2" | "wall_pos" | "body"
+            | "pcell" | "pcell2" | "wall_cell"
     )
 }
 
@@ -402,7 +445,7 @@ pub(crate) fn source(id: KernelId, c: &ShaderConstants) -> String {
 fn workgroup_arrays(id: KernelId) -> String {
     match id {
         KernelId::ReducePartial | KernelId::ReduceFinal => {
-            format!("var<workgroup> red_v: array<f64, {WIDE}>;\nvar<workgroup> red_a: array<f64, {WIDE}>;\n")
+            format!("var<workgroup> red_v: array<R, {WIDE}>;\nvar<workgroup> red_a: array<R, {WIDE}>;\n")
         }
         KernelId::CellScan => format!("var<workgroup> sums: array<u32, {WIDE}>;\n"),
         _ => String::new(),
@@ -416,8 +459,8 @@ fn body(id: KernelId) -> &'static str {
         KernelId::ReducePartial => {
             r#"
     let i = gid.x;
-    var v2 = f64(0.0);
-    var a2 = f64(0.0);
+    var v2 = R(0.0);
+    var a2 = R(0.0);
     if (i < N_FLUID) {
         let v = get_vel(i);
         let a = get_acc(i);
@@ -445,8 +488,8 @@ fn body(id: KernelId) -> &'static str {
         KernelId::ReduceFinal => {
             r#"
     let groups = arrayLength(&partial) / 2u;
-    var v2 = f64(0.0);
-    var a2 = f64(0.0);
+    var v2 = R(0.0);
+    var a2 = R(0.0);
     for (var g = lid.x; g < groups; g += WIDE) {
         v2 = max(v2, partial[2u * g]);
         a2 = max(a2, partial[2u * g + 1u]);
@@ -465,9 +508,9 @@ fn body(id: KernelId) -> &'static str {
         let vmax = sqrt(red_v[0]);
         let amax = sqrt(red_a[0]);
         var dt = CFL * H / (C0 + vmax);
-        if (amax > f64(0.0)) { dt = min(dt, CFL * sqrt(H / amax)); }
-        if (VISCOUS_DT > f64(0.0)) { dt = min(dt, VISCOUS_DT); }
-        if (FIXED_DT > f64(0.0)) { dt = FIXED_DT; }
+        if (amax > R(0.0)) { dt = min(dt, CFL * sqrt(H / amax)); }
+        if (VISCOUS_DT > R(0.0)) { dt = min(dt, VISCOUS_DT); }
+        if (FIXED_DT > R(0.0)) { dt = FIXED_DT; }
         state[0] = dt;
         state[1] = vmax;
         state[2] = amax;
@@ -483,7 +526,7 @@ fn body(id: KernelId) -> &'static str {
             r#"
     let i = gid.x;
     if (i >= N_FLUID) { return; }
-    let half = f64(0.5) * state[0];
+    let half = R(0.5) * state[0];
     let v = get_vel(i);
     set_pos(i, get_pos(i) + half * v);
     set_vel_n(i, v);
@@ -493,11 +536,19 @@ fn body(id: KernelId) -> &'static str {
     rho[i] = r + half * drho[i];
 "#
         }
+        // The particle's new cell (its offset moved by the whole cells it left it by, the cell
+        // clamped into the grid: a particle outside the domain is a blow-up, reported by the
+        // corrector), then the count of its cell.
         KernelId::CellCount => {
             r#"
     let i = gid.x;
     if (i >= N_FLUID) { return; }
-    let c = cell_index(cell_of(get_pos(i)));
+    let old = get_pcell(i);
+    let x = get_pos(i);
+    let moved = clamp(old + VI(floor(x / CELL)), VI(0), DIMS - VI(1));
+    set_pos(i, x - V(moved - old) * CELL);
+    set_pcell(i, moved);
+    let c = cell_index(moved);
     cell[i] = c;
     atomicAdd(&count[c], 1u);
 "#
@@ -572,6 +623,7 @@ fn body(id: KernelId) -> &'static str {
     rho2[s] = rho[i];
     rho_n2[s] = rho_n[i];
     id2[s] = id[i];
+    set_pcell2(s, get_pcell(i));
 "#
         }
         // The pressure of the sorted ρ^{n+½}, and ρ_H = ρ0 (1 + ρ0 g z (γ−1)/(γB))^(1/(γ−1)),
@@ -582,11 +634,11 @@ fn body(id: KernelId) -> &'static str {
     let i = gid.x;
     if (i >= N_FLUID) { return; }
     p[i] = eos(rho[i]);
-    let depth = STILL - get_pos(i)[D - 1u];
-    let g = f64(GAMMA);
-    let base = f64(1.0) + RHO0 * GRAVITY * depth * (g - f64(1.0)) / (g * EOS_B);
-    var rh = RHO0 * root(f64(1e-6), GAMMA);
-    if (base > f64(0.0)) {
+    let depth = STILL - absolute(get_pos(i), get_pcell(i))[D - 1u];
+    let g = R(GAMMA);
+    let base = R(1.0) + RHO0 * GRAVITY * depth * (g - R(1.0)) / (g * EOS_B);
+    var rh = RHO0 * root(R(1e-6), GAMMA);
+    if (base > R(0.0)) {
         rh = max(RHO0 * root(base, GAMMA - 1u), rh);
     }
     rho_h[i] = rh;
@@ -601,16 +653,18 @@ fn body(id: KernelId) -> &'static str {
     if (w >= N_WALL) { return; }
     let xw = get_wall_pos(w);
     let b = get_body(0u);
-    let home = cell_of(xw);
-    var sum_w = f64(0.0);
-    var sum_pw = f64(0.0);
-    var sum_rx = V(f64(0.0));
+    let home = get_wall_cell(w);
+    var sum_w = R(0.0);
+    var sum_pw = R(0.0);
+    var sum_rx = V(R(0.0));
     for (var k = 0u; k < STENCIL; k++) {
         let cc = home + stencil(k);
         if (!inside_grid(cc)) { continue; }
         let ci = cell_index(cc);
+        // Every particle of cell cc is stored relative to cc (the sort put it there).
+        let base = xw + V(home - cc) * CELL;
         for (var j = start[ci]; j < start[ci + 1u]; j++) {
-            let d = xw - get_pos(j);
+            let d = base - get_pos(j);
             let r2 = dot(d, d);
             if (r2 < SUPPORT_SQ) {
                 let wv = kernel_value(sqrt(r2));
@@ -620,11 +674,11 @@ fn body(id: KernelId) -> &'static str {
             }
         }
     }
-    var pw = f64(0.0);
+    var pw = R(0.0);
     var rw = RHO0;
-    if (sum_w > f64(1e-12)) {
+    if (sum_w > R(1e-12)) {
         pw = (sum_pw + dot(b, sum_rx)) / sum_w;
-        if (WALL_FLOOR) { pw = max(pw, f64(0.0)); }
+        if (WALL_FLOOR) { pw = max(pw, R(0.0)); }
         rw = density_of(pw);
     }
     wall_state[2u * w] = pw;
@@ -640,51 +694,53 @@ fn body(id: KernelId) -> &'static str {
     let i = gid.x;
     if (i >= N_FLUID) { return; }
     let xi = get_pos(i);
+    let home = get_pcell(i);
     let vi = get_vel(i);
     let rho_i = rho[i];
-    let inv_rho_i = f64(1.0) / rho_i;
+    let inv_rho_i = R(1.0) / rho_i;
     let p_i = p[i];
     var dyn_i = rho_i;
     if (HYDRO) { dyn_i = rho_i - rho_h[i]; }
-    var acc = V(f64(0.0));
-    var drho_i = f64(0.0);
-    let home = cell_of(xi);
+    var acc = V(R(0.0));
+    var drho_i = R(0.0);
     for (var k = 0u; k < STENCIL; k++) {
         let cc = home + stencil(k);
         if (!inside_grid(cc)) { continue; }
         let ci = cell_index(cc);
+        // Every fluid and wall particle of cell cc is stored relative to cc.
+        let base = xi + V(home - cc) * CELL;
         for (var j = start[ci]; j < start[ci + 1u]; j++) {
             if (j == i) { continue; }
-            let xij = xi - get_pos(j);
+            let xij = base - get_pos(j);
             let r2 = dot(xij, xij);
             if (r2 >= SUPPORT_SQ) { continue; }
-            let r = max(sqrt(r2), f64(1e-150));
+            let r = max(sqrt(r2), TINY);
             let f = gradient_factor(r);
-            let inv_s = f64(1.0) / (r2 + EPS_H2);
+            let inv_s = R(1.0) / (r2 + EPS_H2);
             let rho_j = rho[j];
-            let inv_rho_mean = f64(2.0) / (rho_i + rho_j);
+            let inv_rho_mean = R(2.0) / (rho_i + rho_j);
             let inv_rho_ij = inv_rho_i / rho_j;
             let vij = vi - get_vel(j);
             let vx = dot(vij, xij);
             var scalar = -(p_i + p[j]) * inv_rho_ij * MASS;
             if (AV_ON) {
-                let phi = H * min(vx, f64(0.0)) * inv_s;
+                let phi = H * min(vx, R(0.0)) * inv_s;
                 scalar -= MASS * (-AV_ALPHA * AV_C * phi + AV_BETA * phi * phi) * inv_rho_mean;
             }
             scalar += K_MU_M * vx * inv_rho_ij * inv_s;
             acc += xij * (f * scalar);
             drho_i += MASS * vx * f;
-            if (DIFF_COEFF != f64(0.0)) {
+            if (DIFF_COEFF != R(0.0)) {
                 var dyn_j = rho_j;
                 if (HYDRO) { dyn_j = rho_j - rho_h[j]; }
                 drho_i += DIFF_COEFF * (dyn_j - dyn_i) * f * (MASS / rho_j);
             }
         }
         for (var w = wall_start[ci]; w < wall_start[ci + 1u]; w++) {
-            let xiw = xi - get_wall_pos(w);
+            let xiw = base - get_wall_pos(w);
             let r2 = dot(xiw, xiw);
             if (r2 >= SUPPORT_SQ) { continue; }
-            let r = max(sqrt(r2), f64(1e-150));
+            let r = max(sqrt(r2), TINY);
             let f = gradient_factor(r);
             let pw = wall_state[2u * w];
             let rw = wall_state[2u * w + 1u];
@@ -704,17 +760,18 @@ fn body(id: KernelId) -> &'static str {
     if (i >= N_FLUID) { return; }
     let dt = state[0];
     let v = get_vel_n(i) + dt * get_acc(i);
-    let x = get_pos(i) + (f64(0.5) * dt) * v;
+    let x = get_pos(i) + (R(0.5) * dt) * v;
     set_vel(i, v);
     set_pos(i, x);
     let eps = -drho[i] / rho[i] * dt;
-    let r = rho_n[i] * (f64(2.0) - eps) / (f64(2.0) + eps);
+    let r = rho_n[i] * (R(2.0) - eps) / (R(2.0) + eps);
     rho[i] = r;
     p[i] = eos(r);
     let s = dot(x, x) + dot(v, v);
-    if (!(s < f64(1e300))) {
+    let at = absolute(x, get_pcell(i));
+    if (!(s < HUGE)) {
         atomicAdd(&flags[0], 1u);
-    } else if (any(x < LO) || any(x > HI)) {
+    } else if (any(at < LO) || any(at > HI)) {
         atomicAdd(&flags[1], 1u);
         atomicMin(&flags[2], i);
     }
@@ -725,7 +782,7 @@ fn body(id: KernelId) -> &'static str {
     if (gid.x != 0u) { return; }
     let s = flags[2];
     if (s < N_FLUID) {
-        let x = get_pos(s);
+        let x = absolute(get_pos(s), get_pcell(s));
         for (var k = 0u; k < D; k++) { state[3u + k] = x[k]; }
     }
 "#

@@ -1447,15 +1447,12 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, Resolut
             ))
         }
     };
-    p.backend = match r.str_or("backend", "cpu")?.as_str() {
-        "cpu" => Backend::Cpu,
-        "gpu" => Backend::Gpu,
-        other => {
-            return Err(format!(
-                "numerics: unknown backend \"{other}\" (use \"cpu\" or \"gpu\")"
-            ))
-        }
-    };
+    let backend = r.str_or("backend", "cpu")?;
+    p.backend = Backend::from_name(&backend).ok_or_else(|| {
+        format!(
+            "numerics: unknown backend \"{backend}\" (use \"cpu\", \"gpu\" or \"gpu_f32\")"
+        )
+    })?;
     p.pressure_smoothing_eps = r.f64_or("smoothing_eps", p.pressure_smoothing_eps)?;
     p.smoothing_steps = r.usize_or("smoothing_steps", p.smoothing_steps)?;
     r.finish()?;
@@ -1852,6 +1849,20 @@ mod tests {
     }
 
     #[test]
+    fn backends_are_read() {
+        for (name, backend) in [
+            ("cpu", Backend::Cpu),
+            ("gpu", Backend::Gpu),
+            ("gpu_f32", Backend::GpuF32),
+        ] {
+            let (p, _, _) = numerics(&[("backend", name.into())]).unwrap();
+            assert_eq!(p.backend, backend);
+        }
+        let (p, _, _) = numerics(&[]).unwrap();
+        assert_eq!(p.backend, Backend::Cpu);
+    }
+
+    #[test]
     fn unknown_values_are_reported() {
         for (key, value, hint) in [
             ("density", "sum", "continuity"),
@@ -1860,6 +1871,7 @@ mod tests {
             ("integrator", "euler", "symplectic"),
             ("pair_scheme", "godunov", "riemann"),
             ("viscous_operator", "morris", "monaghan_cleary"),
+            ("backend", "cuda", "gpu_f32"),
         ] {
             let err = numerics(&[(key, value.into())]).unwrap_err();
             assert!(err.contains(value) && err.contains(hint), "{err}");

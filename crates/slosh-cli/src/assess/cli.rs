@@ -47,9 +47,9 @@ pub struct AssessArgs {
     /// missing and failed ones.
     #[arg(long, conflicts_with_all = ["case", "motions", "slurm", "set"])]
     pub collect: bool,
-    /// Where the runs' steps run: cpu or gpu (as `slosh run --backend`; passed to each run,
+    /// Where the runs' steps run: cpu, gpu or gpu_f32 (as `slosh run --backend`; passed to each run,
     /// and to the array tasks of a Slurm job, as SLOSH_BACKEND).
-    #[arg(long, value_parser = ["cpu", "gpu"])]
+    #[arg(long, value_parser = ["cpu", "gpu", "gpu_f32"])]
     pub backend: Option<String>,
 }
 
