@@ -8,8 +8,9 @@
 //! Vulkan device at all the comparisons say so and pass; the refusal test runs everywhere.
 //!
 //! Why the GPU and CPU results must agree far closer than the validation suite's tolerances:
-//! both backends step the same equations in f64 and differ only in the order in which each
-//! particle's pair sums are added (see `crates/slosh-gpu/tests/gpu_against_cpu.rs`), a
+//! both backends step the same equations in f64 and differ only in round-off: the order in
+//! which each particle's pair sums are added and the device's positions kept relative to
+//! their cell (see `crates/slosh-gpu/tests/gpu_against_cpu.rs`), a
 //! difference of round-off (≈ 1e-15 relative per step) that a gently sloshing liquid does not
 //! amplify by more than a few orders over a few thousand steps. Results that agree to 1e-6
 //! relative leave that room and still catch any term computed differently (a wrong term

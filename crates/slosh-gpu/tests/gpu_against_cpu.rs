@@ -3,7 +3,8 @@
 //!
 //! Both run the modern preset from the same particles. The device sums each particle's pairs
 //! in another order than the CPU's half sweep (every pair from both sides, neighbours in cell
-//! and id order), so the two agree to round-off at the first step and drift apart by the growth
+//! and id order) and keeps positions relative to their cell, so the two agree to round-off at
+//! the first step and drift apart by the growth
 //! of round-off in a weakly compressible liquid; the bounds below are set from that, not from
 //! today's result.
 
