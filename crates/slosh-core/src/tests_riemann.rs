@@ -4,7 +4,7 @@
 
 use crate::test_tank::box_tank_for;
 use crate::tests_modern::{free_sloshing_period, hydrostatics, modern_params};
-use crate::{BoundaryMethod, DensityMethod, PairScheme, SimError, Simulation, SphParams, Vector};
+use crate::{BoundaryMethod, DensityMethod, SimError, Simulation, SphParams, Vector};
 
 /// The modern preset with the Riemann pair in place of Eq. 8 and the continuity equation.
 fn riemann_params() -> SphParams {
