@@ -597,10 +597,15 @@ fn run_built<const D: usize>(
     }
     slosh_io::write_ron(out.join("summary.ron"), &summary)?;
     if let Some(e) = failure {
-        let how = if e.is::<Interrupted>() {
-            "; run the case again to redo it (resume from a checkpoint is not available yet)"
-        } else {
-            ""
+        let how = match (e.is::<Interrupted>(), opts.checkpoints.is_some()) {
+            (true, true) => format!(
+                "; its checkpoint is kept: continue it with `slosh resume {}`",
+                out.display()
+            ),
+            (true, false) => {
+                "; it ran without checkpoints, so run the case again to redo it".to_string()
+            }
+            _ => String::new(),
         };
         return Err(e.context(format!(
             "the run stopped at t = {:.4} s; the outputs written so far are in {}{how}",
