@@ -108,12 +108,9 @@ fn attach_backend<const D: usize>(sim: &mut Simulation<D>) -> Result<()> {
     }
     #[cfg(feature = "gpu")]
     {
-        let precision = if sim.params().backend == slosh_core::Backend::GpuF32 {
-            slosh_gpu::Precision::F32
-        } else {
-            slosh_gpu::Precision::F64
-        };
-        slosh_gpu::attach(sim, precision)?;
+        if let Some(precision) = slosh_gpu::Precision::of(sim.params().backend) {
+            slosh_gpu::attach(sim, precision)?;
+        }
         Ok(())
     }
     #[cfg(not(feature = "gpu"))]

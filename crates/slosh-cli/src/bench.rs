@@ -352,7 +352,7 @@ pub fn cli_bench_gpu(
     quick: bool,
     out: Option<PathBuf>,
     only_cases: Option<Vec<String>>,
-    single: bool,
+    backend: slosh_core::Backend,
 ) -> Result<()> {
     #[cfg(feature = "gpu")]
     {
@@ -360,15 +360,13 @@ pub fn cli_bench_gpu(
         let out = out.unwrap_or_else(|| PathBuf::from("out").join("bench"));
         println!(
             "slosh bench --backend {}{}: {} cases, modern scheme, load average {}",
-            if single { "gpu_f32" } else { "gpu" },
+            backend.name(),
             if quick { " --quick" } else { "" },
             cases.len(),
             load_avg_line()
         );
-        let precision = if single {
-            slosh_gpu::Precision::F32
-        } else {
-            slosh_gpu::Precision::F64
+        let Some(precision) = slosh_gpu::Precision::of(backend) else {
+            bail!("the GPU bench needs backend gpu or gpu_f32");
         };
         let mut lines = Vec::new();
         let mut header = String::new();
@@ -446,7 +444,7 @@ pub fn cli_bench_gpu(
     }
     #[cfg(not(feature = "gpu"))]
     {
-        let _ = (quick, out, only_cases, single);
+        let _ = (quick, out, only_cases, backend);
         bail!("this slosh was built without the GPU backend (cargo feature \"gpu\")")
     }
 }

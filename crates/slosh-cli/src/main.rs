@@ -61,7 +61,7 @@ struct BenchArgs {
     /// Where the step runs: cpu (default), gpu or gpu_f32 (the modern scheme on the first
     /// Vulkan device in f64 or f32: particle-steps/s and the share of each kernel, into
     /// bench_gpu.csv).
-    #[arg(long, value_parser = ["cpu", "gpu", "gpu_f32"], default_value = "cpu")]
+    #[arg(long, value_parser = slosh_core::Backend::NAMES, default_value = "cpu")]
     backend: String,
 }
 
@@ -113,7 +113,7 @@ struct RunArgs {
     checkpoint_every: String,
     /// Where the step runs: cpu, gpu (the modern scheme on the first Vulkan device, f64) or
     /// gpu_f32 (the same in f32); overrides the script's `numerics` backend.
-    #[arg(long, value_parser = ["cpu", "gpu", "gpu_f32"])]
+    #[arg(long, value_parser = slosh_core::Backend::NAMES)]
     backend: Option<String>,
 }
 
@@ -134,7 +134,7 @@ struct ResumeArgs {
     #[arg(long, value_name = "GB", value_parser = positive_gb)]
     max_memory: Option<f64>,
     /// Where the step runs (default: where the run started).
-    #[arg(long, value_parser = ["cpu", "gpu", "gpu_f32"])]
+    #[arg(long, value_parser = slosh_core::Backend::NAMES)]
     backend: Option<String>,
 }
 
@@ -184,9 +184,9 @@ struct SweepArgs {
     /// Write sweep.csv from the cases finished so far (after a --slurm job).
     #[arg(long, conflicts_with = "slurm")]
     collect: bool,
-    /// Where the cases' steps run: cpu or gpu (as `slosh run --backend`; passed to each case's
+    /// Where the cases' steps run: cpu, gpu or gpu_f32 (as `slosh run --backend`; passed to each case's
     /// run, and to the array tasks of a Slurm job, as SLOSH_BACKEND).
-    #[arg(long, value_parser = ["cpu", "gpu", "gpu_f32"])]
+    #[arg(long, value_parser = slosh_core::Backend::NAMES)]
     backend: Option<String>,
 }
 
@@ -294,13 +294,9 @@ fn main() -> ExitCode {
         }
         Command::Theory(args) => cmd_theory(args),
         Command::Bench(args) => {
-            if args.backend != "cpu" {
-                slosh_cli::bench::cli_bench_gpu(
-                    args.quick,
-                    args.out,
-                    args.case,
-                    args.backend == "gpu_f32",
-                )
+            let backend = slosh_core::Backend::from_name(&args.backend).unwrap_or_default();
+            if backend != slosh_core::Backend::Cpu {
+                slosh_cli::bench::cli_bench_gpu(args.quick, args.out, args.case, backend)
             } else {
                 slosh_cli::bench::cli_bench(
                     args.quick,
@@ -419,17 +415,15 @@ fn pass_backend_on(backend: Option<&str>) {
     }
 }
 
-/// `--backend cpu|gpu`: where the case's step runs, over what its script says; without the
+/// `--backend cpu|gpu|gpu_f32`: where the case's step runs, over what its script says; without the
 /// flag, SLOSH_BACKEND (set by a sweep or an assessment for its runs) when it names one.
 fn set_backend(case: &mut slosh_script::Case, backend: Option<&str>) {
     let from_env = std::env::var(slosh_cli::BACKEND_ENV).ok();
-    match backend.or(from_env.as_deref()) {
-        Some(name) => {
-            if let Some(b) = slosh_core::Backend::from_name(name) {
-                case.sph.backend = b;
-            }
-        }
-        None => {}
+    if let Some(b) = backend
+        .or(from_env.as_deref())
+        .and_then(slosh_core::Backend::from_name)
+    {
+        case.sph.backend = b;
     }
 }
 

@@ -69,7 +69,10 @@ fn run(script: &str, sets: &[&str], backend: &str, out: &Path) -> Option<String>
     }
     let o = c.output().unwrap();
     if backend == "gpu" && no_device(&o) {
-        eprintln!("no usable Vulkan device, GPU comparison skipped: {}", text(&o));
+        eprintln!(
+            "no usable Vulkan device, GPU comparison skipped: {}",
+            text(&o)
+        );
         return None;
     }
     assert!(o.status.success(), "{backend}: {}", text(&o));
@@ -111,7 +114,10 @@ const F32_AGREEMENT: f64 = 1e-2;
 
 fn assert_close_within(name: &str, cpu: f64, gpu: f64, bound: f64) {
     let rel = (gpu - cpu).abs() / cpu.abs().max(1e-300);
-    assert!(rel <= bound, "{name}: cpu {cpu}, gpu {gpu} (rel {rel:.2e}, bound {bound:e})");
+    assert!(
+        rel <= bound,
+        "{name}: cpu {cpu}, gpu {gpu} (rel {rel:.2e}, bound {bound:e})"
+    );
 }
 
 fn assert_close(name: &str, cpu: f64, gpu: f64) {
@@ -130,7 +136,13 @@ fn free_decay_period_and_damping_match_the_cpu() {
     let Some(gpu) = run("scripts/free_decay_2d.rhai", &sets, "gpu", &dir.join("gpu")) else {
         return;
     };
-    let f32_run = run("scripts/free_decay_2d.rhai", &sets, "gpu_f32", &dir.join("f32")).unwrap();
+    let f32_run = run(
+        "scripts/free_decay_2d.rhai",
+        &sets,
+        "gpu_f32",
+        &dir.join("f32"),
+    )
+    .unwrap();
     let cpu = run("scripts/free_decay_2d.rhai", &sets, "cpu", &dir.join("cpu")).unwrap();
     assert!(
         device(&f32_run).contains("f32 (positions relative to their cell)"),
@@ -138,9 +150,17 @@ fn free_decay_period_and_damping_match_the_cpu() {
         device(&f32_run)
     );
     let error = number(&f32_run, "period_error");
-    assert!(error.abs() < 0.015, "GPU f32 period {error:+.4} from theory");
+    assert!(
+        error.abs() < 0.015,
+        "GPU f32 period {error:+.4} from theory"
+    );
     for name in ["period_first_mode", "zeta_first_mode", "max_eta_left"] {
-        assert_close_within(name, number(&cpu, name), number(&f32_run, name), F32_AGREEMENT);
+        assert_close_within(
+            name,
+            number(&cpu, name),
+            number(&f32_run, name),
+            F32_AGREEMENT,
+        );
     }
     assert!(device(&gpu).contains("Vulkan"), "{}", device(&gpu));
     assert!(device(&gpu).ends_with("f64\","), "{}", device(&gpu));
@@ -169,9 +189,18 @@ fn roof_impact_matches_the_cpu() {
     let Some(gpu) = run("scripts/paper_2d_roof.rhai", &sets, "gpu", &dir.join("gpu")) else {
         return;
     };
-    let f32_run = run("scripts/paper_2d_roof.rhai", &sets, "gpu_f32", &dir.join("f32")).unwrap();
+    let f32_run = run(
+        "scripts/paper_2d_roof.rhai",
+        &sets,
+        "gpu_f32",
+        &dir.join("f32"),
+    )
+    .unwrap();
     let cpu = run("scripts/paper_2d_roof.rhai", &sets, "cpu", &dir.join("cpu")).unwrap();
-    assert!(number(&cpu, "max_roof_p") > 1000.0, "no roof impact:\n{cpu}");
+    assert!(
+        number(&cpu, "max_roof_p") > 1000.0,
+        "no roof impact:\n{cpu}"
+    );
     for name in [
         "max_roof_p",
         "max_roof_force_up",
@@ -180,7 +209,12 @@ fn roof_impact_matches_the_cpu() {
         "max_eta_right",
     ] {
         assert_close(name, number(&cpu, name), number(&gpu, name));
-        assert_close_within(name, number(&cpu, name), number(&f32_run, name), F32_AGREEMENT);
+        assert_close_within(
+            name,
+            number(&cpu, name),
+            number(&f32_run, name),
+            F32_AGREEMENT,
+        );
     }
 }
 
@@ -261,7 +295,10 @@ fn without_a_vulkan_device_the_gpu_backend_is_refused_clearly() {
     let t = text(&o);
     assert!(!o.status.success(), "{t}");
     assert!(t.contains("no Vulkan device"), "{t}");
-    assert!(t.contains("mesa-vulkan-drivers") && t.contains("CPU"), "{t}");
+    assert!(
+        t.contains("mesa-vulkan-drivers") && t.contains("CPU"),
+        "{t}"
+    );
     assert!(!t.contains("panicked"), "{t}");
     assert!(out.join("summary.ron").exists(), "{t}");
 }

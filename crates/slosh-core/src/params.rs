@@ -176,14 +176,27 @@ impl Backend {
         *self == Backend::Cpu
     }
 
-    /// The backend of a script or command-line name: "cpu", "gpu" (f64) or "gpu_f32".
-    pub fn from_name(name: &str) -> Option<Backend> {
-        match name {
-            "cpu" => Some(Backend::Cpu),
-            "gpu" => Some(Backend::Gpu),
-            "gpu_f32" => Some(Backend::GpuF32),
-            _ => None,
+    /// Every backend.
+    pub const ALL: [Backend; 3] = [Backend::Cpu, Backend::Gpu, Backend::GpuF32];
+    /// The script and command-line names of [`Self::ALL`], in that order.
+    pub const NAMES: [&'static str; 3] = [
+        Self::ALL[0].name(),
+        Self::ALL[1].name(),
+        Self::ALL[2].name(),
+    ];
+
+    /// The script and command-line name of this backend: "cpu", "gpu" (f64) or "gpu_f32".
+    pub const fn name(self) -> &'static str {
+        match self {
+            Backend::Cpu => "cpu",
+            Backend::Gpu => "gpu",
+            Backend::GpuF32 => "gpu_f32",
         }
+    }
+
+    /// The backend of a script or command-line name ([`Self::name`]).
+    pub fn from_name(name: &str) -> Option<Backend> {
+        Self::ALL.into_iter().find(|b| b.name() == name)
     }
 }
 

@@ -123,13 +123,12 @@ fn real_bytes(c: &ShaderConstants) -> u64 {
     }
 }
 
-/// Reals of the device read back as f64.
-fn reals_from_bytes(raw: &[u8], single: bool) -> Vec<f64> {
+/// Real number `k` of bytes read back from the device, as f64.
+fn real_at(raw: &[u8], k: usize, single: bool) -> f64 {
     if single {
-        let v: &[f32] = bytemuck::cast_slice(raw);
-        v.iter().map(|&x| x as f64).collect()
+        bytemuck::cast_slice::<u8, f32>(raw)[k] as f64
     } else {
-        bytemuck::cast_slice::<u8, f64>(raw).to_vec()
+        bytemuck::cast_slice::<u8, f64>(raw)[k]
     }
 }
 
@@ -367,7 +366,10 @@ impl<const D: usize> GpuStep<D> {
     /// Reads `count` reals of buffer `name` back as f64.
     fn read_reals(&self, name: &str, count: usize) -> Result<Vec<f64>, SimError> {
         let bytes = count as u64 * real_bytes(&self.constants);
-        Ok(reals_from_bytes(&self.read(name, bytes)?, self.constants.single))
+        let raw = self.read(name, bytes)?;
+        Ok((0..count)
+            .map(|k| real_at(&raw, k, self.constants.single))
+            .collect())
     }
 
     /// A point as the kernels store it: its cell's coordinates in the grid (clamped into it,
@@ -608,13 +610,16 @@ impl<const D: usize> StepDevice<D> for GpuStep<D> {
         let raw = self.map_read(&self.staging_step, step_bytes)?;
         let single = self.constants.single;
         let state_end = state_bytes as usize;
-        let words = reals_from_bytes(&raw[..state_end], single);
+        let words = &raw[..state_end];
+        let word = |k: usize| real_at(words, k, single);
         let flags: &[u32] = bytemuck::cast_slice(&raw[state_end..state_end + FLAG_WORDS * 4]);
         if wall_bytes > 0 {
             let raw_walls = self.map_read(&self.staging_walls, wall_bytes)?;
-            let state = reals_from_bytes(&raw_walls, single);
             for (k, &w) in self.wall_host_index.iter().enumerate() {
-                let (p, rho) = (state[2 * k], state[2 * k + 1]);
+                let (p, rho) = (
+                    real_at(&raw_walls, 2 * k, single),
+                    real_at(&raw_walls, 2 * k + 1, single),
+                );
                 let w = w as usize;
                 walls.pressure[w] = p;
                 walls.density[w] = rho;
@@ -626,12 +631,12 @@ impl<const D: usize> StepDevice<D> for GpuStep<D> {
         }
         let mut first = Vector::<D>::zeros();
         for k in 0..D {
-            first[k] = words[3 + k];
+            first[k] = word(3 + k);
         }
         Ok(DeviceStepReport {
-            dt: words[0],
-            max_speed: words[1],
-            max_acceleration: words[2],
+            dt: word(0),
+            max_speed: word(1),
+            max_acceleration: word(2),
             non_finite: flags[0],
             outside: flags[1],
             first_outside: (flags[1] > 0).then_some(first),

@@ -28,6 +28,17 @@ pub enum Precision {
     F32,
 }
 
+impl Precision {
+    /// The precision a run's `backend` asks for, or `None` for the CPU.
+    pub fn of(backend: slosh_core::Backend) -> Option<Precision> {
+        match backend {
+            slosh_core::Backend::Cpu => None,
+            slosh_core::Backend::Gpu => Some(Precision::F64),
+            slosh_core::Backend::GpuF32 => Some(Precision::F32),
+        }
+    }
+}
+
 /// Builds the device step for `sim` on the first Vulkan adapter and attaches it; returns the
 /// device's description ("llvmpipe (LLVM 15.0.6, 256 bits), Vulkan, f64"). Fails with a
 /// message that says why when no device can run it: no Vulkan device, no f64 support, or a

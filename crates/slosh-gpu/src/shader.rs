@@ -278,8 +278,16 @@ fn prelude(c: &ShaderConstants) -> String {
         s += &format!("const {name}: R = {};\n", lit(value));
     }
     // The smallest distance a pair is evaluated at and the largest finite state, in R.
-    let (tiny, huge) = if c.single { (1e-30, 1e30) } else { (1e-150, 1e300) };
-    s += &format!("const TINY: R = {};\nconst HUGE: R = {};\n", lit(tiny), lit(huge));
+    let (tiny, huge) = if c.single {
+        (1e-30, 1e30)
+    } else {
+        (1e-150, 1e300)
+    };
+    s += &format!(
+        "const TINY: R = {};\nconst HUGE: R = {};\n",
+        lit(tiny),
+        lit(huge)
+    );
     s += &format!("const GAMMA: u32 = {}u;\n", c.gamma);
     s += &format!(
         "const WIDE: u32 = {WIDE}u;\nconst WIDE_HALF: u32 = {}u;\n",
@@ -410,8 +418,18 @@ pub(crate) fn is_cell(name: &str) -> bool {
 fn is_vector(name: &str) -> bool {
     matches!(
         name,
-        "pos" | "vel" | "vel_n" | "acc" | "pos2" | "vel2" | "vel_n2" | "wall_pos" | "body"
-            | "pcell" | "pcell2" | "wall_cell"
+        "pos"
+            | "vel"
+            | "vel_n"
+            | "acc"
+            | "pos2"
+            | "vel2"
+            | "vel_n2"
+            | "wall_pos"
+            | "body"
+            | "pcell"
+            | "pcell2"
+            | "wall_cell"
     )
 }
 

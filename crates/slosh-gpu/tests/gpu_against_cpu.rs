@@ -78,62 +78,90 @@ fn run_pair<const D: usize>(
 const POSITION_BOUND_DX: f64 = 1e-10;
 const DENSITY_BOUND: f64 = 1e-12;
 
-/// 2D: the paper's §3.1 tank (1.0 × 0.5 m of water, dx = 0.02 m) under its resonant sine:
-/// after one step and after 300.
-#[test]
-fn gpu_f64_follows_the_cpu_in_2d() {
-    let dx = 0.02;
-    let params = SphParams::modern();
-    let setup = || {
-        RectTank2::new(1.0, 1.0, 0.5)
-            .with_layers(params.wall_layers())
-            .build(dx)
-            .unwrap()
-    };
-    let accel = |t: f64| Vector::<2>::new(0.0093 * 5.311f64.powi(2) * (5.311 * t).sin(), 0.0);
-    let Some((cpu1, gpu1)) = run_pair(setup, 1, accel, Precision::F64) else {
-        return;
-    };
-    let (d1, r1) = differences(&cpu1, &gpu1);
-    assert!(d1 < 1e-12 && r1 < 1e-12, "after 1 step: {d1:e} m, {r1:e}");
-    let (cpu, gpu) = run_pair(setup, 300, accel, Precision::F64).unwrap();
-    let (d, r) = differences(&cpu, &gpu);
-    eprintln!(
-        "2D after 300 steps: {d:e} m ({:e} dx), density {r:e}",
-        d / dx
-    );
-    assert!(
-        d < POSITION_BOUND_DX * dx && r < DENSITY_BOUND,
-        "after 300 steps: {d:e} m, {r:e}"
-    );
-    assert!((cpu.time() / gpu.time() - 1.0).abs() < 1e-9);
+/// The 2D case: the paper's §3.1 tank (1.0 × 0.5 m of water, dx = 0.02 m).
+const DX_2D: f64 = 0.02;
+
+fn tank_2d() -> ParticleSetup<2> {
+    RectTank2::new(1.0, 1.0, 0.5)
+        .with_layers(SphParams::modern().wall_layers())
+        .build(DX_2D)
+        .unwrap()
 }
 
-/// 3D: an open cylinder R = 0.25 m with 0.2 m of water (dx = 0.025 m) from a first-mode surface
-/// for 200 steps, within the same bounds.
+/// The paper's resonant sine (m/s²) at time `t` (s).
+fn resonant_sine(t: f64) -> Vector<2> {
+    Vector::<2>::new(0.0093 * 5.311f64.powi(2) * (5.311 * t).sin(), 0.0)
+}
+
+/// The 3D case: an open cylinder R = 0.25 m with 0.2 m of water (dx = 0.025 m) from a
+/// first-mode surface, moved by `shift` (m) along x and y.
+const DX_3D: f64 = 0.025;
+
+fn cylinder_3d(shift: f64) -> ParticleSetup<3> {
+    let mut setup = CylinderTank::new(0.25, 0.3, 0.2, Roof::None)
+        .with_initial_tilt(0.01)
+        .with_initial_shape(InitialSurface::FirstMode)
+        .with_layers(SphParams::modern().wall_layers())
+        .build(DX_3D)
+        .unwrap();
+    if shift != 0.0 {
+        setup = shifted_horizontally(setup, shift);
+    }
+    setup
+}
+
+/// Asserts the differences of a pair of runs (`label` says which) within `position_bound_dx`
+/// spacings `dx` and `density_bound`, and prints them.
+fn assert_within<const D: usize>(
+    label: &str,
+    (cpu, gpu): &(Simulation<D>, Simulation<D>),
+    dx: f64,
+    position_bound_dx: f64,
+    density_bound: f64,
+) {
+    let (d, r) = differences(cpu, gpu);
+    eprintln!("{label}: {d:e} m ({:e} dx), density {r:e}", d / dx);
+    assert!(
+        d < position_bound_dx * dx && r < density_bound,
+        "{label}: {d:e} m, {r:e}"
+    );
+}
+
+/// 2D under the resonant sine: after one step and after 300.
 #[test]
-fn gpu_f64_follows_the_cpu_in_3d() {
-    let dx = 0.025;
-    let params = SphParams::modern();
-    let setup = || {
-        CylinderTank::new(0.25, 0.3, 0.2, Roof::None)
-            .with_initial_tilt(0.01)
-            .with_initial_shape(InitialSurface::FirstMode)
-            .with_layers(params.wall_layers())
-            .build(dx)
-            .unwrap()
-    };
-    let Some((cpu, gpu)) = run_pair(setup, 200, |_| Vector::<3>::zeros(), Precision::F64) else {
+fn gpu_f64_follows_the_cpu_in_2d() {
+    let Some(one) = run_pair(tank_2d, 1, resonant_sine, Precision::F64) else {
         return;
     };
-    let (d, r) = differences(&cpu, &gpu);
-    eprintln!(
-        "3D after 200 steps: {d:e} m ({:e} dx), density {r:e}",
-        d / dx
+    assert_within("2D after 1 step", &one, DX_2D, 1e-12 / DX_2D, 1e-12);
+    let pair = run_pair(tank_2d, 300, resonant_sine, Precision::F64).unwrap();
+    assert_within(
+        "2D after 300 steps",
+        &pair,
+        DX_2D,
+        POSITION_BOUND_DX,
+        DENSITY_BOUND,
     );
-    assert!(
-        d < POSITION_BOUND_DX * dx && r < DENSITY_BOUND,
-        "after 200 steps: {d:e} m, {r:e}"
+    assert!((pair.0.time() / pair.1.time() - 1.0).abs() < 1e-9);
+}
+
+/// 3D: the cylinder's free decay for 200 steps, within the same bounds.
+#[test]
+fn gpu_f64_follows_the_cpu_in_3d() {
+    let Some(pair) = run_pair(
+        || cylinder_3d(0.0),
+        200,
+        |_| Vector::<3>::zeros(),
+        Precision::F64,
+    ) else {
+        return;
+    };
+    assert_within(
+        "3D after 200 steps",
+        &pair,
+        DX_3D,
+        POSITION_BOUND_DX,
+        DENSITY_BOUND,
     );
 }
 
@@ -153,29 +181,19 @@ const DENSITY_BOUND_F32: f64 = 1e-4;
 /// f32 on the 2D case of [`gpu_f64_follows_the_cpu_in_2d`], 300 steps.
 #[test]
 fn gpu_f32_follows_the_cpu_in_2d() {
-    let dx = 0.02;
-    let params = SphParams::modern();
-    let setup = || {
-        RectTank2::new(1.0, 1.0, 0.5)
-            .with_layers(params.wall_layers())
-            .build(dx)
-            .unwrap()
-    };
-    let accel = |t: f64| Vector::<2>::new(0.0093 * 5.311f64.powi(2) * (5.311 * t).sin(), 0.0);
-    let Some((cpu, gpu)) = run_pair(setup, 300, accel, Precision::F32) else {
+    let Some(pair) = run_pair(tank_2d, 300, resonant_sine, Precision::F32) else {
         return;
     };
-    let (d, r) = differences(&cpu, &gpu);
-    eprintln!(
-        "2D f32 after 300 steps: {d:e} m ({:e} dx), density {r:e}",
-        d / dx
-    );
-    assert!(
-        d < POSITION_BOUND_F32_DX * dx && r < DENSITY_BOUND_F32,
-        "after 300 steps: {d:e} m, {r:e}"
+    let label = "2D f32 after 300 steps";
+    assert_within(
+        label,
+        &pair,
+        DX_2D,
+        POSITION_BOUND_F32_DX,
+        DENSITY_BOUND_F32,
     );
     // The step length follows the same CFL bound, read from f32 speeds and accelerations.
-    assert!((cpu.time() / gpu.time() - 1.0).abs() < 1e-4);
+    assert!((pair.0.time() / pair.1.time() - 1.0).abs() < 1e-4);
 }
 
 /// f32 on the 3D case of [`gpu_f64_follows_the_cpu_in_3d`], 200 steps, and the same cylinder
@@ -183,46 +201,24 @@ fn gpu_f32_follows_the_cpu_in_2d() {
 /// the same there (absolute f32 coordinates would round to 1 mm = 0.04 dx).
 #[test]
 fn gpu_f32_follows_the_cpu_in_3d_far_from_the_origin() {
-    let dx = 0.025;
-    let setup_at = |shift: f64| {
-        move || {
-            let mut s = CylinderTank::new(0.25, 0.3, 0.2, Roof::None)
-                .with_initial_tilt(0.01)
-                .with_initial_shape(InitialSurface::FirstMode)
-                .with_layers(SphParams::modern().wall_layers())
-                .build(dx)
-                .unwrap();
-            shift_horizontally(&mut s, shift);
-            s
-        }
-    };
-    let Some((cpu, gpu)) = run_pair(setup_at(0.0), 200, |_| Vector::<3>::zeros(), Precision::F32)
-    else {
+    let still = |_| Vector::<3>::zeros();
+    let Some(pair) = run_pair(|| cylinder_3d(0.0), 200, still, Precision::F32) else {
         return;
     };
-    let (d, r) = differences(&cpu, &gpu);
-    eprintln!(
-        "3D f32 after 200 steps: {d:e} m ({:e} dx), density {r:e}",
-        d / dx
+    let label = "3D f32 after 200 steps";
+    assert_within(
+        label,
+        &pair,
+        DX_3D,
+        POSITION_BOUND_F32_DX,
+        DENSITY_BOUND_F32,
     );
-    assert!(
-        d < POSITION_BOUND_F32_DX * dx && r < DENSITY_BOUND_F32,
-        "after 200 steps: {d:e} m, {r:e}"
-    );
-    let (cpu_far, gpu_far) =
-        run_pair(setup_at(1.0e4), 200, |_| Vector::<3>::zeros(), Precision::F32).unwrap();
-    let (d_far, r_far) = differences(&cpu_far, &gpu_far);
-    eprintln!(
-        "3D f32 10 km from the origin: {d_far:e} m ({:e} dx), density {r_far:e}",
-        d_far / dx
-    );
-    assert!(
-        d_far < POSITION_BOUND_F32_DX * dx && r_far < DENSITY_BOUND_F32,
-        "10 km from the origin after 200 steps: {d_far:e} m, {r_far:e}"
-    );
+    let far = run_pair(|| cylinder_3d(1.0e4), 200, still, Precision::F32).unwrap();
+    let label = "3D f32 10 km from the origin after 200 steps";
+    assert_within(label, &far, DX_3D, POSITION_BOUND_F32_DX, DENSITY_BOUND_F32);
 }
 
-/// The tank's interior moved by `shift` (m) along x and y.
+/// The tank's interior moved by `shift` (m).
 struct ShiftedInterior {
     inner: Box<dyn TankInterior<3>>,
     shift: Vector<3>,
@@ -237,8 +233,8 @@ impl TankInterior<3> for ShiftedInterior {
     }
 }
 
-/// Moves a built tank by `shift` (m) along x and y (its liquid, walls and interior).
-fn shift_horizontally(setup: &mut ParticleSetup<3>, shift: f64) {
+/// A built tank moved by `shift` (m) along x and y (its liquid, walls and interior).
+fn shifted_horizontally(mut setup: ParticleSetup<3>, shift: f64) -> ParticleSetup<3> {
     let v = Vector::<3>::new(shift, shift, 0.0);
     for x in setup
         .fluid_positions
@@ -249,21 +245,9 @@ fn shift_horizontally(setup: &mut ParticleSetup<3>, shift: f64) {
     }
     setup.interior_min += v;
     setup.interior_max += v;
-    let inner = std::mem::replace(
-        &mut setup.interior,
-        Box::new(ShiftedInterior {
-            inner: Box::new(NoInterior),
-            shift: v,
-        }),
-    );
-    setup.interior = Box::new(ShiftedInterior { inner, shift: v });
-}
-
-/// A placeholder interior (never used: replaced at once).
-struct NoInterior;
-
-impl TankInterior<3> for NoInterior {
-    fn contains(&self, _: &Vector<3>) -> bool {
-        false
-    }
+    setup.interior = Box::new(ShiftedInterior {
+        inner: setup.interior,
+        shift: v,
+    });
+    setup
 }

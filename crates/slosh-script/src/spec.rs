@@ -1449,9 +1449,7 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, Resolut
     };
     let backend = r.str_or("backend", "cpu")?;
     p.backend = Backend::from_name(&backend).ok_or_else(|| {
-        format!(
-            "numerics: unknown backend \"{backend}\" (use \"cpu\", \"gpu\" or \"gpu_f32\")"
-        )
+        format!("numerics: unknown backend \"{backend}\" (use \"cpu\", \"gpu\" or \"gpu_f32\")")
     })?;
     p.pressure_smoothing_eps = r.f64_or("smoothing_eps", p.pressure_smoothing_eps)?;
     p.smoothing_steps = r.usize_or("smoothing_steps", p.smoothing_steps)?;

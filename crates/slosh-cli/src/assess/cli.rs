@@ -49,7 +49,7 @@ pub struct AssessArgs {
     pub collect: bool,
     /// Where the runs' steps run: cpu, gpu or gpu_f32 (as `slosh run --backend`; passed to each run,
     /// and to the array tasks of a Slurm job, as SLOSH_BACKEND).
-    #[arg(long, value_parser = ["cpu", "gpu", "gpu_f32"])]
+    #[arg(long, value_parser = slosh_core::Backend::NAMES)]
     pub backend: Option<String>,
 }
 
