@@ -417,6 +417,13 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             ),
         ),
         (
+            "real scale: the 24 m section as first run, both schemes",
+            one(
+                "Real scale: the 24 m section as a user first runs it (no numerics override)",
+                real_scale::first_run_section,
+            ),
+        ),
+        (
             "real scale: free sloshing of 2D sections",
             one(
                 "Real scale: free sloshing of 2D sections",

@@ -7,7 +7,7 @@
 use super::run::{
     fitted_slope, hydrostatic_fit, interpolate, rms, Context, Runner, SineExcitation, GRAVITY, RHO,
 };
-use super::three_d::{cylinder_forced_inner, free_run, ForcedCylinder};
+use super::three_d::{com_x, cylinder_forced_inner, free_run, ComHistory, ForcedCylinder};
 use super::{
     failed_run, fmt_num, info_row, open_if_failed, relative_check, stayed_inside, Check,
     GroupResult, Verdict,
@@ -33,9 +33,10 @@ const FROUDE_TOL: f64 = 0.02;
 /// First-mode period at real scale: 1.5 %, the tolerance of the modern preset's laboratory
 /// check (Adami walls hold the liquid dx/2 from the wall; what remains is resolution).
 const PERIOD_TOL: f64 = 0.015;
-/// Period of the 24 m cylinder: the laboratory 3D tolerance (3 %: staircase wall and
-/// surface smoothing at 24 particles per radius and below).
-const CYLINDER_PERIOD_TOL: f64 = 0.03;
+/// First-mode period of the real-scale section run with no numerics override: 2 %, what the
+/// sound-speed rule must deliver in either scheme (the paper scheme's own laboratory
+/// tolerance is 5 %).
+const FIRST_RUN_PERIOD_TOL: f64 = 0.02;
 /// Hydrostatic slope dp/d(ρ0 g d) under 20 m of liquid: 1 % (the density varies by
 /// g H/c0² ≤ 1 % with the rule's c0; the slope is a least-squares fit over every particle).
 const SLOPE_TOL: f64 = 0.01;
@@ -47,17 +48,13 @@ const STILL_LEVEL_TOL: f64 = 0.005;
 /// rearranges in the first seconds; the floor force then swings by ±1.5 % with a period of
 /// ≈ 1.6 s under 20 m), so a single instant is not a measurement.
 const HYDROSTATIC_AVERAGE: f64 = 4.0;
-/// What is known of a hydrostatic slope or floor force beyond 1 % (an OPEN row, not a
-/// failure): only the paper scheme misses it.
-const SLOPE_GAP: &str = "the paper scheme's particle pressures follow ρ0 g d (their slope is \
-    within 1 %), but the wall load it reports is read from the pressure of its dynamic wall \
-    particles (summed density, docs/scheme.md, Dynamic wall particles), which comes out 7–8 % \
-    below the liquid's on the side wall and the floor alike. The modern scheme (Adami wall \
-    pressure) meets 1 % since it starts in its own compression (docs/scheme.md, Continuity \
-    density)";
-/// What is known of the paper scheme's still level beyond 0.5 %.
-const PAPER_LEVEL_GAP: &str = "the paper scheme's summation density starts from a uniform \
-    lattice at ρ0 and its surface rows sit below the Tait level by a further ≈ 0.2 %";
+/// Why the paper scheme's wall loads at rest are reported, not judged, at real scale: the
+/// reading belongs to the paper's method and shows in its laboratory tank too.
+const PAPER_METHOD_GAP: &str = "the paper scheme's wall loads are read from the pressure of \
+    the liquid beside the wall (summation density with dynamic wall particles, Eq. 19, whose \
+    particle pressures scatter by ≈ 20 % of ρ g H at rest), and that reading lies below ρ0 g d \
+    in the paper's own tank as well, while its particles' own slope over the tank is within \
+    1 %; the modern preset (Adami walls, docs/scheme.md) is the scheme judged at real scale";
 /// What is known of a real-scale forced comparison beyond the laboratory tolerance.
 const FORCED_GAP: &str = "with h = 2 dx this cylinder damps its first mode by ζ = 0.57 % at 24 \
     particles per radius (2.2 % with h = 1.5 dx) and the wall elevation and base shear came \
@@ -250,9 +247,99 @@ pub fn froude_similarity(ctx: &Context) -> GroupResult {
     g
 }
 
+/// What a run at rest gives (see [`rest_reading`]).
+struct RestReading {
+    /// Least-squares slope of the side-wall pressures (the reported load) against ρ0 g d.
+    wall_slope: f64,
+    /// The same slope of every particle's pressure.
+    particle_slope: f64,
+    /// Floor force over the liquid's weight.
+    floor_load: f64,
+    /// Surface level (m), fill (m) and the level the Tait EOS predicts (m).
+    level: f64,
+    fill: f64,
+    predicted: f64,
+    particle_steps: f64,
+}
+
+/// An open 2D tank `width` × `shell` m with `depth` m of liquid at rest for `settle` s, dx
+/// `dx`: slopes and floor force averaged over the last `average` s (every tenth step), the
+/// surface at ¼, ½, ¾ of the width over the last `average`/4 s.
+#[allow(clippy::too_many_arguments)]
+fn rest_reading(
+    ctx: &Context,
+    label: &str,
+    params: &SphParams,
+    (width, shell, depth): (f64, f64, f64),
+    dx: f64,
+    settle: f64,
+    average: f64,
+) -> Result<RestReading> {
+    let setup = RectTank2::new(width, shell, depth)
+        .with_roof(false)
+        .with_layers(params.wall_layers())
+        .build(dx)?;
+    let mut sim = Simulation::new(setup, params.clone())?;
+    let fill = sim.fill_level();
+    let predicted = sim.still_level();
+    ctx.say(&format!(
+        "{label}: {width} × {depth} m at rest, dx = {dx} m, c0 = {:.1} m/s, {settle:.2} s",
+        sim.sound_speed()
+    ));
+    let gauges = [0.25 * width, 0.5 * width, 0.75 * width];
+    let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
+    let (mut level_sum, mut level_n, mut particle_steps) = (0.0, 0.0f64, 0.0);
+    // [wall slope, particle slope, floor force / weight], summed every tenth step of the
+    // averaging window.
+    let (mut sums, mut samples, mut step) = ([0.0; 3], 0.0f64, 0u64);
+    step_until(
+        &mut sim,
+        |_| [0.0; 3],
+        settle,
+        "stopped",
+        |sim| {
+            particle_steps += n_all;
+            step += 1;
+            if sim.time() >= settle - 0.25 * average {
+                for x in gauges {
+                    if let Some(z) = sim.surface_level_at(&[x]) {
+                        level_sum += z;
+                        level_n += 1.0;
+                    }
+                }
+            }
+            if sim.time() >= settle - average && step % 10 == 0 {
+                let sample = [
+                    side_wall_slope(sim, predicted),
+                    hydrostatic_fit(sim, predicted).0,
+                    floor_force_over_weight(sim),
+                ];
+                for (s, v) in sums.iter_mut().zip(sample) {
+                    *s += v;
+                }
+                samples += 1.0;
+            }
+            Ok(())
+        },
+    )?;
+    let [wall_slope, particle_slope, floor_load] = sums.map(|s| s / samples.max(1.0));
+    Ok(RestReading {
+        wall_slope,
+        particle_slope,
+        floor_load,
+        level: level_sum / level_n.max(1.0),
+        fill,
+        predicted,
+        particle_steps,
+    })
+}
+
 /// 20 m of liquid in an open 2D tank 10 m wide (shell 24 m), both schemes: hydrostatic slopes
 /// and the floor force averaged over the last [`HYDROSTATIC_AVERAGE`] s at rest, and the still
-/// level against the fill.
+/// level against the fill. The modern preset, the scheme for real tanks, is judged; the paper
+/// scheme is reported beside the same tank 40 times smaller with the paper's stiffness (its
+/// Froude-similar twin: the same particles per depth, c0/√(g H) 12 against 11), which tells
+/// whether a reading is a matter of scale or of the paper's method.
 pub fn hydrostatics_at_depth(ctx: &Context) -> GroupResult {
     let group = "Hydrostatics at depth";
     let mut g = GroupResult::default();
@@ -260,140 +347,156 @@ pub fn hydrostatics_at_depth(ctx: &Context) -> GroupResult {
     // The Froude equivalent of the paper's 2 s of settling in its 0.5 m tank.
     let settle = 2.0 * (depth / 0.5f64).sqrt();
     for (label, params) in presets() {
-        let run = || -> Result<(f64, f64, f64, f64, f64, f64, f64)> {
-            let setup = RectTank2::new(width, shell, depth)
-                .with_roof(false)
-                .with_layers(params.wall_layers())
-                .build(dx)?;
-            let mut sim = Simulation::new(setup, params.clone())?;
-            let fill = sim.fill_level();
-            let predicted = sim.still_level();
-            ctx.say(&format!(
-                "{label}: {width} × {depth} m at rest, dx = {dx} m, c0 = {:.1} m/s, {settle} s",
-                sim.sound_speed()
-            ));
-            let gauges = [0.25 * width, 0.5 * width, 0.75 * width];
-            let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
-            let (mut level_sum, mut level_n, mut steps) = (0.0, 0.0f64, 0.0);
-            // [wall slope, particle slope, floor force / weight], summed every tenth step of
-            // the averaging window.
-            let (mut sums, mut samples, mut step) = ([0.0; 3], 0.0f64, 0u64);
-            step_until(
-                &mut sim,
-                |_| [0.0; 3],
-                settle,
-                "stopped",
-                |sim| {
-                    steps += n_all;
-                    step += 1;
-                    if sim.time() >= settle - 1.0 {
-                        for x in gauges {
-                            if let Some(z) = sim.surface_level_at(&[x]) {
-                                level_sum += z;
-                                level_n += 1.0;
-                            }
-                        }
-                    }
-                    if sim.time() >= settle - HYDROSTATIC_AVERAGE && step % 10 == 0 {
-                        let sample = [
-                            side_wall_slope(sim, predicted),
-                            hydrostatic_fit(sim, predicted).0,
-                            floor_force_over_weight(sim),
-                        ];
-                        for (s, v) in sums.iter_mut().zip(sample) {
-                            *s += v;
-                        }
-                        samples += 1.0;
-                    }
-                    Ok(())
-                },
-            )?;
-            let level = level_sum / level_n.max(1.0);
-            let [wall_slope, particle_slope, floor_load] = sums.map(|s| s / samples.max(1.0));
-            Ok((
-                wall_slope,
-                particle_slope,
-                level,
-                fill,
-                predicted,
-                floor_load,
-                steps,
-            ))
-        };
-        match run() {
-            Ok((wall_slope, particle_slope, level, fill, predicted, floor_load, steps)) => {
-                g.particle_steps += steps;
-                g.checks.push(open_if_failed(
-                    relative_check(
-                        group,
-                        &format!(
-                            "{label}: hydrostatic slope of the side-wall pressure (the load the \
-                         tool reports, ±N-step window) dp/d(ρ0 g d) under {depth} m, \
-                         mean over t = {:.1}–{settle:.1} s",
-                            settle - HYDROSTATIC_AVERAGE
-                        ),
-                        wall_slope,
-                        1.0,
-                        "",
-                        SLOPE_TOL,
-                        "1 %: with c0 = 10 √(g H_ref) the density varies by ≤ 1 % over the depth",
-                    ),
-                    SLOPE_GAP,
-                ));
-                g.checks.push(info_row(
-                    group,
-                    &format!(
-                        "{label}: slope of the particle pressures (least squares, all particles, \
-                         the same mean)"
-                    ),
-                    fmt_num(particle_slope),
-                    "1".into(),
-                    format!("{:+.1} %", 100.0 * (particle_slope - 1.0)),
-                    "reported: the SPH pressure gradient of the particles themselves carries the \
-                     discretisation bias also seen in the 0.5 m tank (modern +1.8 % there)",
-                ));
-                g.checks.push(open_if_failed(
-                    relative_check(
-                        group,
-                        &format!(
-                            "{label}: floor force (±N-step window, the same mean) against the \
-                             weight of the liquid, n m g"
-                        ),
-                        floor_load,
-                        1.0,
-                        "",
-                        SLOPE_TOL,
-                        "1 %: the floor of a tank with vertical walls carries the whole weight \
-                         (independent of the compression); the pressure at the floor is the \
-                         bottom of the slope judged above",
-                    ),
-                    SLOPE_GAP,
-                ));
-                g.checks.push(open_if_failed(
-                    relative_check(
-                        group,
-                        &format!(
-                            "{label}: still level (surface at ¼, ½, ¾ of the width, last 1 s) \
-                         against the fill"
-                        ),
-                        level,
-                        fill,
-                        "m",
-                        STILL_LEVEL_TOL,
-                        "0.5 %: the Tait compression at c0 = 10 √(g H_ref) is ≤ H/(2·100·H_ref)",
-                    ),
-                    PAPER_LEVEL_GAP,
-                ));
-                g.checks.push(info_row(
-                    group,
-                    &format!("{label}: still level predicted by the Tait EOS"),
-                    format!("{} m", fmt_num(predicted)),
-                    format!("{} m (fill)", fmt_num(fill)),
-                    format!("{:+.2} %", 100.0 * (predicted / fill - 1.0)),
-                    "reported: the level wave elevations are measured from",
-                ));
+        let judged = label == "modern scheme";
+        let reading = match rest_reading(
+            ctx,
+            label,
+            &params,
+            (width, shell, depth),
+            dx,
+            settle,
+            HYDROSTATIC_AVERAGE,
+        ) {
+            Ok(r) => r,
+            Err(e) => {
+                g.checks.push(failed_run(group, label, &format!("{e:#}")));
+                continue;
             }
-            Err(e) => g.checks.push(failed_run(group, label, &format!("{e:#}"))),
+        };
+        g.particle_steps += reading.particle_steps;
+        // The paper scheme's twin: the same tank scaled to 0.5 m of liquid with the paper's
+        // stiffness (times × √(1/40)).
+        let lab = if judged {
+            None
+        } else {
+            let scale = 0.5 / depth;
+            let lab_params = SphParams {
+                wall_pressure: params.wall_pressure,
+                ..crate::run::paper_params()
+            };
+            match rest_reading(
+                ctx,
+                &format!("{label} (laboratory twin)"),
+                &lab_params,
+                (width * scale, shell * scale, depth * scale),
+                dx * scale,
+                settle * scale.sqrt(),
+                HYDROSTATIC_AVERAGE * scale.sqrt(),
+            ) {
+                Ok(r) => {
+                    g.particle_steps += r.particle_steps;
+                    Some(r)
+                }
+                Err(e) => {
+                    g.checks.push(failed_run(
+                        group,
+                        &format!("{label}, laboratory twin"),
+                        &format!("{e:#}"),
+                    ));
+                    None
+                }
+            }
+        };
+        // A judged row of the modern preset, or the paper scheme's reading reported with its
+        // laboratory twin's beside it.
+        let row = |name: String,
+                   measured: f64,
+                   reference: f64,
+                   unit: &str,
+                   tol,
+                   reason: &str,
+                   twin: Option<(f64, f64)>| {
+            match (judged, twin) {
+                (true, _) => relative_check(group, &name, measured, reference, unit, tol, reason),
+                (false, twin) => info_row(
+                    group,
+                    &name,
+                    format!("{} {unit}", fmt_num(measured)),
+                    format!("{} {unit}", fmt_num(reference)),
+                    format!("{:+.1} %", 100.0 * (measured / reference - 1.0)),
+                    &match twin {
+                        Some((m, r)) => format!(
+                            "reported: {PAPER_METHOD_GAP}; the laboratory twin (0.5 m, the \
+                             paper's stiffness) reads {:+.1} %",
+                            100.0 * (m / r - 1.0)
+                        ),
+                        None => format!("reported: {PAPER_METHOD_GAP}"),
+                    },
+                ),
+            }
+        };
+        let r = &reading;
+        g.checks.push(row(
+            format!(
+                "{label}: hydrostatic slope of the side-wall pressure (the load the tool reports, \
+                 ±N-step window) dp/d(ρ0 g d) under {depth} m, mean over t = {:.1}–{settle:.1} s",
+                settle - HYDROSTATIC_AVERAGE
+            ),
+            r.wall_slope,
+            1.0,
+            "",
+            SLOPE_TOL,
+            "1 %: with c0 = 10 √(g H_ref) the density varies by ≤ 1 % over the depth",
+            lab.as_ref().map(|l| (l.wall_slope, 1.0)),
+        ));
+        g.checks.push(info_row(
+            group,
+            &format!(
+                "{label}: slope of the particle pressures (least squares, all particles, the \
+                 same mean)"
+            ),
+            fmt_num(r.particle_slope),
+            "1".into(),
+            format!("{:+.1} %", 100.0 * (r.particle_slope - 1.0)),
+            "reported: the SPH pressure gradient of the particles themselves",
+        ));
+        g.checks.push(row(
+            format!(
+                "{label}: floor force (±N-step window, the same mean) against the weight of the \
+                 liquid, n m g"
+            ),
+            r.floor_load,
+            1.0,
+            "",
+            SLOPE_TOL,
+            "1 %: the floor of a tank with vertical walls carries the whole weight \
+             (independent of the compression); the pressure at the floor is the bottom of the \
+             slope judged above",
+            lab.as_ref().map(|l| (l.floor_load, 1.0)),
+        ));
+        g.checks.push(row(
+            format!(
+                "{label}: still level (surface at ¼, ½, ¾ of the width, last 1 s) against the fill"
+            ),
+            r.level,
+            r.fill,
+            "m",
+            STILL_LEVEL_TOL,
+            "0.5 %: the Tait compression at c0 = 10 √(g H_ref) is ≤ H/(2·100·H_ref)",
+            None,
+        ));
+        g.checks.push(info_row(
+            group,
+            &format!("{label}: still level predicted by the Tait EOS"),
+            format!("{} m", fmt_num(r.predicted)),
+            format!("{} m (fill)", fmt_num(r.fill)),
+            format!("{:+.2} %", 100.0 * (r.predicted / r.fill - 1.0)),
+            "reported: the level wave elevations are measured from",
+        ));
+        if let Some(l) = &lab {
+            g.checks.push(info_row(
+                group,
+                &format!(
+                    "{label}: surface below the Tait level, {depth} m and its laboratory twin, \
+                     in % of the depth"
+                ),
+                format!("{:+.2} %", 100.0 * (r.level - r.predicted) / r.fill),
+                format!("{:+.2} % (twin)", 100.0 * (l.level - l.predicted) / l.fill),
+                "—".into(),
+                "reported: the paper's summation density (Eq. 19–20) under-counts the surface \
+                 rows' neighbours, so they sit below the level the Tait EOS predicts, at any \
+                 scale",
+            ));
         }
     }
     g.notes.push(format!(
@@ -402,7 +505,9 @@ pub fn hydrostatics_at_depth(ctx: &Context) -> GroupResult {
          Froude time); the paper scheme starts from a uniform lattice at ρ0, the modern one \
          from hydrostatic densities, sunk into its own Tait compression. Depth d below the \
          still level the Tait EOS predicts; slopes and floor force averaged over the last \
-         {HYDROSTATIC_AVERAGE} s."
+         {HYDROSTATIC_AVERAGE} s. The modern preset is judged; the paper scheme is reported \
+         beside its laboratory twin (the same tank 0.5 m deep with the paper's stiffness \
+         B = 1.013×10⁵ Pa, the same 40 particles per depth, times × √(1/40))."
     ));
     g
 }
@@ -648,8 +753,9 @@ fn cylinder_free(ctx: &Context, n: f64) -> GroupResult {
                     period,
                     t1,
                     "s",
-                    CYLINDER_PERIOD_TOL,
-                    "3 %, the laboratory 3D tolerance (staircase wall, surface smoothing)",
+                    PERIOD_TOL,
+                    "1.5 %, the real-scale period tolerance: at 24 particles per radius and \
+                     more the staircase wall and the surface smoothing stay below it",
                 ));
                 g.checks.push(info_row(
                     group,
@@ -675,5 +781,136 @@ fn cylinder_free(ctx: &Context, n: f64) -> GroupResult {
          wall, modern preset with c0 = 10 √(g H_ref); theory for the depth the lattice holds."
             .into(),
     );
+    g
+}
+
+/// What is known of the paper scheme's still level beyond 0.5 % in the first-run section.
+const PAPER_LEVEL_GAP: &str = "the paper scheme's surface settles 0.1–0.3 % of the depth below \
+    the level the Tait EOS predicts (its summation density, Eq. 19–20, at the free surface; the \
+    same in its laboratory twin under 20 m, stage 'hydrostatics at depth'), on top of the \
+    0.40 % compression the sound-speed rule allows; a stiffer liquid (k = 13) left it at \
+    −0.5 %: the Tait part shrank and the surface part grew. Not isolated";
+
+/// The 24 m section with 13 m of water under a 16 m roof, started with the surface tilted
+/// by 0.5 m (rising linearly to the left wall) and left to slosh, run as a user first runs
+/// it: no numerics override (the sound speed from the tank), both schemes, dx = 0.5 m in the
+/// quick suite and 0.25 m in the full suite. Judged: the still level (the surface at ¼, ½
+/// and ¾ of the width, where the first mode's contributions cancel, averaged over the run
+/// after the first half period) within 0.5 % of the fill, and the first-mode period (the
+/// centre of mass's crossings after the first) within 2 % of potential theory.
+pub fn first_run_section(ctx: &Context) -> GroupResult {
+    let group = "Real-scale section as first run";
+    let mut g = GroupResult::default();
+    let (width, height, depth, tilt) = (24.0, 16.0, 13.0, 0.5);
+    let dx = if ctx.quick { 0.5 } else { 0.25 };
+    let user_presets = [
+        ("paper scheme", SphParams::paper()),
+        ("modern scheme", SphParams::modern()),
+    ];
+    for (label, params) in user_presets {
+        let run = || -> Result<(f64, f64, f64, f64, f64, Check, f64)> {
+            let setup = RectTank2::new(width, height, depth)
+                .with_roof(true)
+                .with_initial_tilt(tilt)
+                .with_layers(params.wall_layers())
+                .build(dx)?;
+            let mut sim = Simulation::new(setup, params.clone())?;
+            let floor = sim.interior_bounds().0.y;
+            let fill = sim.fill_level() - floor;
+            let t1 = rectangular_period(width, fill, GRAVITY, 1);
+            ctx.say(&format!(
+                "{label}: {width} × {fill} m under a {height} m roof, tilt {tilt} m, dx = {dx} m, \
+                 c0 = {:.1} m/s, {} fluid particles, 3.3 T₁",
+                sim.sound_speed(),
+                sim.fluid().position.len()
+            ));
+            let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
+            let gauges = [0.25 * width, 0.5 * width, 0.75 * width];
+            let mut history = ComHistory {
+                t: vec![sim.time()],
+                x: vec![com_x(&sim)],
+            };
+            let (mut level_sum, mut level_n, mut steps, mut next) = (0.0, 0.0f64, 0.0, 0.0);
+            let sample = t1 / 100.0;
+            step_until(
+                &mut sim,
+                |_| [0.0; 3],
+                3.3 * t1,
+                "stopped",
+                |sim| {
+                    steps += n_all;
+                    if sim.time() >= next {
+                        next += sample;
+                        history.t.push(sim.time());
+                        history.x.push(com_x(sim));
+                        if sim.time() >= 0.5 * t1 {
+                            for x in gauges {
+                                if let Some(z) = sim.surface_level_at(&[x]) {
+                                    level_sum += z - floor;
+                                    level_n += 1.0;
+                                }
+                            }
+                        }
+                    }
+                    Ok(())
+                },
+            )?;
+            Ok((
+                history.period(),
+                t1,
+                level_sum / level_n.max(1.0),
+                fill,
+                sim.still_level() - floor,
+                stayed_inside(group, &sim),
+                steps,
+            ))
+        };
+        match run() {
+            Ok((period, t1, level, fill, predicted, inside, steps)) => {
+                g.particle_steps += steps;
+                g.checks.push(inside);
+                g.checks.push(open_if_failed(
+                    relative_check(
+                        group,
+                        &format!("{label}: still level against the {fill} m fill, dx = {dx} m"),
+                        level,
+                        fill,
+                        "m",
+                        STILL_LEVEL_TOL,
+                        "0.5 %: the Tait compression at c0 = 10 √(g H_ref), H_ref = 16 m, is \
+                         0.40 % of 13 m",
+                    ),
+                    PAPER_LEVEL_GAP,
+                ));
+                g.checks.push(info_row(
+                    group,
+                    &format!("{label}: still level predicted by the Tait EOS"),
+                    format!("{} m", fmt_num(predicted)),
+                    format!("{} m (fill)", fmt_num(fill)),
+                    format!("{:+.2} %", 100.0 * (predicted / fill - 1.0)),
+                    "reported: the level wave elevations are measured from",
+                ));
+                g.checks.push(relative_check(
+                    group,
+                    &format!("{label}: first-mode period, dx = {dx} m"),
+                    period,
+                    t1,
+                    "s",
+                    FIRST_RUN_PERIOD_TOL,
+                    "2 %: the section's period as the sound-speed rule must deliver it without \
+                     any setting (the modern preset's own laboratory tolerance is 1.5 %)",
+                ));
+            }
+            Err(e) => g.checks.push(failed_run(group, label, &format!("{e:#}"))),
+        }
+    }
+    g.notes.push(format!(
+        "2D section {width} m wide, roof at {height} m, {depth} m of water, surface tilted \
+         linearly by {tilt} m at the left wall and released, no excitation, no numerics \
+         override (c0 = 10 √(g H_ref), H_ref the roof height), dx = {dx} m; the paper scheme \
+         as users get it (wall loads from the nearest fluid particle, Eq. 23). With the \
+         paper's B = 1.013×10⁵ Pa this case compressed the liquid by 6.3 % and its surface \
+         swung with a 1.7 s acoustic period."
+    ));
     g
 }
