@@ -15,7 +15,14 @@
 //! is its largest elevation in the same time window widened by a tenth of the forcing period
 //! on each side; the RMS of the relative crest differences must stay within 10 %. Phase: the
 //! correlation coefficient of the simulated elevation, interpolated at the record's times,
-//! with the record over its whole span must be at least 0.97.
+//! with the record over its whole span must be at least 0.97. Reported beside them: the mean
+//! ratio of the crest-to-trough heights of successive half cycles (the first-order wave,
+//! which the crest–trough asymmetry of steep waves leaves alone).
+//!
+//! Faltinsen et al.'s record is reported, not judged: its start is not the stated one (the
+//! paper's abstract: an initial variation of the excitation periods matters more there than
+//! the initial conditions), and undamped linear theory of the stated sway, computed here
+//! beside it, gives heights 1.27 × the record's at the record's phase.
 
 use super::damping::at_most_check;
 use super::run::{interpolate, step_until_around, zero_crossings, Context, GRAVITY};
@@ -27,6 +34,8 @@ use slosh_core::{Simulation, SphParams, Vector};
 use slosh_geometry::RectTank2;
 use slosh_io::{PlotSpec, Series};
 use slosh_run::{HookError, StepPhase};
+use slosh_theory::linear::RectangularTank;
+use slosh_theory::modal::time_history_response;
 
 /// The group of the report.
 const GROUP: &str = "Nonlinear sloshing against experiments";
@@ -79,7 +88,20 @@ struct Experiment {
     /// Resolutions, particles per still depth: (quick suite, full suite); `None` in the quick
     /// suite skips the experiment there.
     per_depth: (Option<usize>, usize),
+    /// Why the record cannot judge a simulation of the stated set-up, if it cannot: its
+    /// rows are then reported, not judged.
+    not_judged: Option<&'static str>,
 }
+
+/// Why Faltinsen et al.'s Fig. 7 is reported and not judged: the record's start is not the
+/// stated one.
+const FALTINSEN_START: &str = "the record is not the response to the stated excitation from \
+    t = 0: the paper's abstract says that for these transient records an initial variation of \
+    the excitation periods matters more than the initial conditions, and neither that \
+    variation nor the experiment's start is documented with the record; undamped linear \
+    theory of the stated constant-period sway from rest follows the record's phase \
+    (correlation row below) but its crest-to-trough heights come out ≈ 1.27 × the record's, \
+    and the modern preset's heights are linear theory's (rows below), not the record's";
 
 fn experiments() -> [Experiment; 2] {
     let bouscasse_omega = {
@@ -99,6 +121,7 @@ fn experiments() -> [Experiment; 2] {
             start: Start::CosineFromRest,
             gauge_x: 0.05,
             per_depth: (Some(20), 40),
+            not_judged: Some(FALTINSEN_START),
         },
         Experiment {
             label: "Bouscasse et al. 2013 series 5, L = 1 m, H = 0.03 m, A = 0.07 m",
@@ -111,6 +134,7 @@ fn experiments() -> [Experiment; 2] {
             start: Start::SineImpulsive,
             gauge_x: 0.05,
             per_depth: (None, 10),
+            not_judged: None,
         },
     ]
 }
@@ -232,9 +256,10 @@ fn simulate(
     })
 }
 
-/// Crests of the record (time window of each positive half cycle, crest) and the simulation's
-/// largest elevation in each window widened by `slack` s on both sides.
-fn crest_pairs(
+/// The extremes of the record, one per half cycle between crossings of the still level
+/// (time window centre, record extreme, signed), and the simulation's extreme of the same
+/// sign in each window widened by `slack` s on both sides.
+fn extreme_pairs(
     record: &[(f64, f64)],
     sim_t: &[f64],
     sim_eta: &[f64],
@@ -248,27 +273,35 @@ fn crest_pairs(
     let crossings = zero_crossings(&ts, &es, band);
     let mut out = Vec::new();
     for w in crossings.windows(2) {
-        let ((t_up, up), (t_down, down)) = (w[0], w[1]);
-        if up != 1 || down != -1 {
-            continue;
-        }
-        let crest = ts
-            .iter()
-            .zip(&es)
-            .filter(|(t, _)| **t >= t_up && **t <= t_down)
-            .map(|(_, e)| *e)
-            .fold(f64::NAN, f64::max);
-        let simulated = sim_t
-            .iter()
-            .zip(sim_eta)
-            .filter(|(t, e)| **t >= t_up - slack && **t <= t_down + slack && e.is_finite())
-            .map(|(_, e)| *e)
-            .fold(f64::NAN, f64::max);
-        if crest.is_finite() && simulated.is_finite() {
-            out.push((0.5 * (t_up + t_down), crest, simulated));
+        let ((t0, side), (t1, _)) = (w[0], w[1]);
+        let sign = f64::from(side);
+        let pick = |t: &[f64], e: &[f64], lo: f64, hi: f64| {
+            t.iter()
+                .zip(e)
+                .filter(|(t, e)| **t >= lo && **t <= hi && e.is_finite())
+                .map(|(_, e)| sign * *e)
+                .fold(f64::NAN, f64::max)
+                * sign
+        };
+        let recorded = pick(&ts, &es, t0, t1);
+        let simulated = pick(sim_t, sim_eta, t0 - slack, t1 + slack);
+        if recorded.is_finite() && simulated.is_finite() {
+            out.push((0.5 * (t0 + t1), recorded, simulated));
         }
     }
     out
+}
+
+/// Mean ratio of the simulated to the recorded crest-to-trough heights over successive
+/// extremes of [`extreme_pairs`]: the first-order wave, free of the second-order crest–trough
+/// asymmetry that single crests carry.
+fn height_ratio(pairs: &[(f64, f64, f64)]) -> f64 {
+    let ratios: Vec<f64> = pairs
+        .windows(2)
+        .filter(|w| w[0].1.signum() != w[1].1.signum())
+        .map(|w| (w[0].2 - w[1].2).abs() / (w[0].1 - w[1].1).abs())
+        .collect();
+    ratios.iter().sum::<f64>() / ratios.len().max(1) as f64
 }
 
 /// Pearson correlation of x and y (NaN pairs skipped).
@@ -293,8 +326,63 @@ fn correlation(x: &[f64], y: &[f64]) -> f64 {
     sxy / (sxx * syy).sqrt()
 }
 
+/// Undamped linear modal theory of an experiment whose sway starts from rest at its extreme
+/// position ([`Start::CosineFromRest`]): the elevation at the gauge (m) at times `t` (s),
+/// 20 excited modes, the load sampled every 1 ms.
+fn linear_reference(e: &Experiment, t: &[f64]) -> Vec<f64> {
+    let (length, _, depth) = e.tank;
+    let tank = RectangularTank::water(length, depth);
+    let dt = 1e-3;
+    let t_end = t.last().copied().unwrap_or(0.0);
+    let (a, w) = (e.amplitude, e.omega);
+    // The liquid feels f = −a_tank = A ω² cos ωt.
+    let force: Vec<f64> = (0..=(t_end / dt).ceil() as usize + 1)
+        .map(|k| a * w * w * (w * k as f64 * dt).cos())
+        .collect();
+    let states = time_history_response(&tank, dt, &force, 20, 0.0);
+    let eta: Vec<f64> = states.iter().map(|s| tank.elevation(s, e.gauge_x)).collect();
+    let times: Vec<f64> = states.iter().map(|s| s.time).collect();
+    t.iter().map(|&ti| interpolate(&times, &eta, ti)).collect()
+}
+
+/// How a simulated (or computed) elevation compares with a record.
+struct Agreement {
+    /// RMS of the relative crest differences, the largest one (signed), and the crests
+    /// (time, record, simulation).
+    crest_rms: f64,
+    worst: f64,
+    crests: Vec<(f64, f64, f64)>,
+    /// Mean ratio of the crest-to-trough heights.
+    heights: f64,
+    /// Correlation over the record's span.
+    correlation: f64,
+}
+
+impl Agreement {
+    fn of(record: &[(f64, f64)], t: &[f64], eta: &[f64], slack: f64) -> Self {
+        let pairs = extreme_pairs(record, t, eta, slack);
+        let crests: Vec<(f64, f64, f64)> = pairs.iter().copied().filter(|p| p.1 > 0.0).collect();
+        let rel: Vec<f64> = crests.iter().map(|(_, c, m)| m / c - 1.0).collect();
+        let crest_rms = (rel.iter().map(|r| r * r).sum::<f64>() / rel.len().max(1) as f64).sqrt();
+        let worst = rel
+            .iter()
+            .fold(0.0f64, |m, r| if r.abs() > m.abs() { *r } else { m });
+        let at_record: Vec<f64> = record.iter().map(|p| interpolate(t, eta, p.0)).collect();
+        let recorded: Vec<f64> = record.iter().map(|p| p.1).collect();
+        Agreement {
+            crest_rms,
+            worst,
+            heights: height_ratio(&pairs),
+            correlation: correlation(&at_record, &recorded),
+            crests,
+        }
+    }
+}
+
 /// The stage: each experiment with the paper scheme and the modern preset. The modern preset
-/// is judged (a miss is OPEN while the fidelity work is open), the paper scheme reported.
+/// is judged (a miss is OPEN while the fidelity work is open), the paper scheme reported; a
+/// record that cannot judge the stated set-up (`Experiment::not_judged`) is reported for
+/// both, beside linear theory of the same set-up where that applies.
 pub fn against_experiments(ctx: &Context) -> GroupResult {
     let mut g = GroupResult::default();
     for (k, e) in experiments().iter().enumerate() {
@@ -306,6 +394,7 @@ pub fn against_experiments(ctx: &Context) -> GroupResult {
             continue;
         };
         let period = 2.0 * std::f64::consts::PI / e.omega;
+        let slack = 0.1 * period;
         let record: Vec<(f64, f64)> = read_record(e.data)
             .into_iter()
             .map(|(t, eta)| (if e.time_in_periods { t * period } else { t }, eta))
@@ -316,6 +405,23 @@ pub fn against_experiments(ctx: &Context) -> GroupResult {
             record.iter().map(|p| p.0).collect(),
             record.iter().map(|p| p.1).collect(),
         )];
+        if let Start::CosineFromRest = e.start {
+            let t: Vec<f64> = (0..=(t_end / 0.005) as usize)
+                .map(|i| i as f64 * 0.005)
+                .collect();
+            let eta = linear_reference(e, &t);
+            let a = Agreement::of(&record, &t, &eta, slack);
+            g.checks.push(info_row(
+                GROUP,
+                &format!("undamped linear theory of the stated set-up: crest-to-trough heights over the record's, {}", e.label),
+                format!("{:.3}", a.heights),
+                "1".into(),
+                format!("crests {:.1} % RMS, correlation {:.4}", 100.0 * a.crest_rms, a.correlation),
+                "reported: 20 modes, the sway from rest as stated (slosh_theory::modal); tells \
+                 what the stated excitation gives to first order",
+            ));
+            curves.push(("linear theory".into(), t, eta));
+        }
         let schemes = [
             ("modern scheme", SphParams::modern(), 0.0, true),
             ("paper scheme", paper_params(), PAPER_SETTLE, false),
@@ -333,20 +439,9 @@ pub fn against_experiments(ctx: &Context) -> GroupResult {
             };
             g.particle_steps += s.particle_steps;
             g.checks.push(s.inside.clone());
-            let pairs = crest_pairs(&record, &s.t, &s.eta, 0.1 * period);
-            let rel: Vec<f64> = pairs.iter().map(|(_, c, m)| m / c - 1.0).collect();
-            let crest_rms =
-                (rel.iter().map(|r| r * r).sum::<f64>() / rel.len().max(1) as f64).sqrt();
-            let worst = rel
-                .iter()
-                .fold(0.0f64, |m, r| if r.abs() > m.abs() { *r } else { m });
-            let at_record: Vec<f64> = record
-                .iter()
-                .map(|p| interpolate(&s.t, &s.eta, p.0))
-                .collect();
-            let exp_eta: Vec<f64> = record.iter().map(|p| p.1).collect();
-            let corr = correlation(&at_record, &exp_eta);
-            let crest_text = pairs
+            let a = Agreement::of(&record, &s.t, &s.eta, slack);
+            let crest_text = a
+                .crests
                 .iter()
                 .map(|(t, c, m)| format!("t = {t:.2} s: {c:.4} / {m:.4} m"))
                 .collect::<Vec<_>>()
@@ -354,58 +449,73 @@ pub fn against_experiments(ctx: &Context) -> GroupResult {
             g.notes.push(format!(
                 "{scheme}, {}: {per_depth} per depth (dx = {:.5} m, depth held {:.4} m, {} \
                  particles), {:.2e} particle-steps in {:.0} s. Crests experiment / SPH: {crest_text}. \
-                 Correlation over the record {corr:.4}.",
-                e.label, s.dx, s.depth, s.particles, s.particle_steps, s.wall_s
+                 Correlation over the record {:.4}; crest-to-trough heights SPH / experiment {:.3}.",
+                e.label, s.dx, s.depth, s.particles, s.particle_steps, s.wall_s, a.correlation, a.heights
             ));
             ctx.say(&format!(
                 "  → {scheme}: crest RMS difference {:.1} % (worst {:+.1} %, {} crests), \
-                 correlation {corr:.4}",
-                100.0 * crest_rms,
-                100.0 * worst,
-                pairs.len()
+                 correlation {:.4}, heights {:.3} × the record's",
+                100.0 * a.crest_rms,
+                100.0 * a.worst,
+                a.crests.len(),
+                a.correlation,
+                a.heights
             ));
             let crest_check = at_most_check(
                 GROUP,
                 &name("RMS relative crest difference"),
-                crest_rms,
+                a.crest_rms,
                 CREST_TOL,
                 &format!(
                     "{} crests of the record against the SPH's largest elevation in the same \
                      half cycle (± T/10), worst {:+.1} %; the digitised crests carry a few mm of \
                      reading error and the experiment's repeatability is of that order",
-                    pairs.len(),
-                    100.0 * worst
+                    a.crests.len(),
+                    100.0 * a.worst
                 ),
             );
             let corr_check = Check {
                 group: GROUP.into(),
                 name: name("correlation with the record"),
-                measured: format!("{corr:.4}"),
+                measured: format!("{:.4}", a.correlation),
                 reference: "1".into(),
-                error: format!("{:.4}", 1.0 - corr),
+                error: format!("{:.4}", 1.0 - a.correlation),
                 tolerance: format!("≥ {CORRELATION_MIN}"),
                 reason: "the phase: no time shift is fitted; a drift of the simulated period or \
                          a late or early start lowers it"
                     .into(),
-                verdict: if corr >= CORRELATION_MIN {
+                verdict: if a.correlation >= CORRELATION_MIN {
                     Verdict::Pass
                 } else {
                     Verdict::Fail
                 },
             };
             for c in [crest_check, corr_check] {
-                g.checks.push(if judged {
-                    open_if_failed(
+                g.checks.push(match (judged, e.not_judged) {
+                    (true, None) => open_if_failed(
                         c,
                         "nonlinear crests of steep waves and bores: the scheme's damping and \
                          the surface's resolution at the gauge",
-                    )
-                } else {
-                    let mut c = c;
-                    c.verdict = Verdict::Info;
-                    c
+                    ),
+                    (_, why) => {
+                        let mut c = c;
+                        c.verdict = Verdict::Info;
+                        if let Some(why) = why {
+                            c.reason = format!("reported, not judged: {why}");
+                        }
+                        c
+                    }
                 });
             }
+            g.checks.push(info_row(
+                GROUP,
+                &name("crest-to-trough heights over the record's"),
+                format!("{:.3}", a.heights),
+                "1".into(),
+                format!("{:+.1} %", 100.0 * (a.heights - 1.0)),
+                "reported: the first-order wave, free of the crest–trough asymmetry of steep \
+                 waves",
+            ));
             curves.push((format!("{scheme}, {per_depth} per depth"), s.t, s.eta));
         }
         let stem = format!("experiment_{}", ["faltinsen2000", "bouscasse2013"][k]);
@@ -475,7 +585,8 @@ mod tests {
         assert!((correlation(&x, &neg) + 1.0).abs() < 1e-12);
     }
 
-    /// A record against itself has crests equal to its own, one per positive half cycle.
+    /// A record against itself has extremes equal to its own, a crest per positive half
+    /// cycle, and heights in the ratio 1.
     #[test]
     fn crests_of_a_record_against_itself_are_its_own() {
         let rec: Vec<(f64, f64)> = (0..400)
@@ -486,10 +597,39 @@ mod tests {
             .collect();
         let t: Vec<f64> = rec.iter().map(|p| p.0).collect();
         let e: Vec<f64> = rec.iter().map(|p| p.1).collect();
-        let pairs = crest_pairs(&rec, &t, &e, 0.0);
-        assert_eq!(pairs.len(), 3, "{pairs:?}");
-        for (_, c, m) in pairs {
+        let pairs = extreme_pairs(&rec, &t, &e, 0.0);
+        let crests: Vec<_> = pairs.iter().filter(|p| p.1 > 0.0).collect();
+        assert_eq!(crests.len(), 3, "{pairs:?}");
+        for (_, c, m) in &pairs {
             assert_eq!(c, m);
+        }
+        assert_eq!(height_ratio(&pairs), 1.0);
+    }
+
+    /// The linear reference of a cosine sway from rest is the closed form of the undamped
+    /// modal equations, η̈_n + ω_n² η_n = (4 L ω_n²/(g n² π²)) ẍ_tank over odd n with the
+    /// surface Σ η_n cos(k_n x) (Ibrahim 2005, §2.3): for ẍ_tank = −A ω² cos ωt from rest,
+    /// η_n = −(4 L ω_n² A ω²/(g n² π²)) (cos ωt − cos ω_n t)/(ω_n² − ω²); the surface at the
+    /// left wall falls first. Within 1e-4 m against a 0.16 m wave: the reference samples the
+    /// load every 1 ms and adds the quasi-static tilt of the modes past the 20 summed here.
+    #[test]
+    fn linear_reference_is_the_closed_form_of_a_cosine_sway() {
+        let e = &experiments()[0];
+        let (l, _, h) = e.tank;
+        let (a, w, g) = (e.amplitude, e.omega, 9.81);
+        let t = [0.5, 2.57, 5.3, 9.16];
+        let eta = linear_reference(e, &t);
+        for (ti, got) in t.iter().zip(eta) {
+            let mut want = 0.0;
+            for j in 0..20 {
+                let n = (2 * j + 1) as f64;
+                let k = n * std::f64::consts::PI / l;
+                let wn2 = g * k * (k * h).tanh();
+                let gain = 4.0 * l * wn2 * a * w * w / (g * n * n * std::f64::consts::PI.powi(2));
+                want -= gain * ((w * ti).cos() - (wn2.sqrt() * ti).cos()) / (wn2 - w * w)
+                    * (k * e.gauge_x).cos();
+            }
+            assert!((got - want).abs() < 1e-4, "t = {ti}: {got} vs {want}");
         }
     }
 }
