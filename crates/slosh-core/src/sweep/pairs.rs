@@ -4,7 +4,7 @@
 //! what a fluid pair and a wall pair add; the drivers decide which pairs it sees and in
 //! which order.
 
-use super::{colour_sweep, split_walls, Block, Slot, Sweep};
+use super::{colour_sweep, forward_pairs_batched, split_walls, Block, ForwardPairBatch, Slot, Sweep};
 use crate::neighbours::{CellGrid, NeighbourSearch};
 use crate::sim::{NeighbourLists, Vector, LIST_OVERFLOW, PAR_CHUNK, WALL_NEIGHBOUR};
 use crate::terms::{ForceSweep, PairFactorBatch};
@@ -72,6 +72,41 @@ fn unbatched_pair<'a, 'id, const D: usize, P: PairInteraction<'a, 'id, D>, const
     p.fluid_pair(owner, sums, j, xij, r2.sqrt().max(1e-150), factors, j_slot);
 }
 
+/// The fluid pairs of owner i that the half sweep finds in the grid, fed to the interaction a
+/// batch at a time ([`forward_pairs_batched`]).
+struct GridPairs<'s, 'a, 'id, const D: usize, P: PairInteraction<'a, 'id, D>> {
+    p: &'s P,
+    owner: &'s P::Owner,
+    sums: &'s mut P::Sums,
+    factors: &'s mut PairFactorBatch,
+    block: &'s Block<'id>,
+    xi: Vector<D>,
+    rho_i: f64,
+}
+
+impl<'a, 'id, const D: usize, P: PairInteraction<'a, 'id, D>> ForwardPairBatch
+    for GridPairs<'_, 'a, 'id, D, P>
+{
+    #[inline(always)]
+    fn batch(&mut self, batch_j: &[u32], batch_r2: &[f64]) {
+        let GridPairs {
+            p,
+            owner,
+            sums,
+            factors,
+            block,
+            xi,
+            rho_i,
+        } = self;
+        let list = block.check_list(batch_j);
+        factors.r2[..batch_r2.len()].copy_from_slice(batch_r2);
+        p.momentum()
+            .visit_batch(*xi, *rho_i, list, factors, &mut |j, slot, xij, r, f| {
+                p.fluid_pair(owner, sums, j, xij, r, f, Some(slot));
+            });
+    }
+}
+
 /// Every pair once over the cell-sorted fluid cut into `blocks` (see [`colour_sweep`]):
 /// each particle takes the pairs of the forward half of its stencil and its wall
 /// neighbours, from `lists` (the half lists of a sweep on the same positions, their pair
@@ -112,17 +147,18 @@ pub(crate) fn half_sweep<'a, 'id, const D: usize, P: PairInteraction<'a, 'id, D>
                     p.wall_pair(&o, &mut sums, w, xiw, xiw.norm_squared());
                 }
             } else {
-                grid.for_each_forward_range(i, &xi, |j0, j1| {
-                    for (j, xj) in (j0..j1).zip(&pos[j0..j1]) {
-                        let xij = xi - xj;
-                        let r2 = xij.norm_squared();
-                        if r2 < support_sq {
-                            unbatched_pair::<D, P, true>(
-                                p, &o, &mut sums, rho_i, j, xij, r2, block,
-                            );
-                        }
-                    }
-                });
+                // The forward candidates within the support, a batch at a time, in the grid's
+                // order: their pair factors are computed together as for listed pairs.
+                let mut pairs = GridPairs {
+                    p,
+                    owner: &o,
+                    sums: &mut sums,
+                    factors: &mut batch,
+                    block,
+                    xi,
+                    rho_i,
+                };
+                forward_pairs_batched(grid, pos, i, support_sq, &mut pairs);
                 grid.for_each_wall_candidate(&xi, |w| {
                     let xiw = xi - wall_pos[w];
                     let r2 = xiw.norm_squared();

@@ -158,14 +158,32 @@ impl<'a, const D: usize> ForceSweep<'a, D> {
     {
         for chunk in fluid_list.chunks(BATCH) {
             for (k, &j) in chunk.indices().iter().enumerate() {
-                let j = j as usize;
-                b.r2[k] = (xi - self.pos[j]).norm_squared();
-                b.rho_pair[k] = rho_i + self.rho[j];
+                b.r2[k] = (xi - self.pos[j as usize]).norm_squared();
             }
-            self.pair_factors_batch(chunk.indices().len(), b);
-            for (k, (j, slot)) in chunk.iter().enumerate() {
-                visit(j, slot, xi - self.pos[j], b.r[k], b.get(k));
-            }
+            self.visit_batch(xi, rho_i, chunk, b, &mut visit);
+        }
+    }
+
+    /// Calls `visit(j, x_ij, r, factors)` for the fluid neighbours j of particle i (at `xi`,
+    /// density `rho_i`) in `batch`, at most [`BATCH`] of them, whose squared distances are in
+    /// `b.r2` already, with the pair factors of [`Self::pair_factors`] computed together.
+    #[inline(always)]
+    pub(crate) fn visit_batch<'b, 'id, F>(
+        &self,
+        xi: Vector<D>,
+        rho_i: f64,
+        batch: CheckedList<'b, 'id>,
+        b: &mut PairFactorBatch,
+        visit: &mut F,
+    ) where
+        F: FnMut(usize, Slot<'b, 'id>, Vector<D>, f64, (f64, f64, f64)),
+    {
+        for (k, &j) in batch.indices().iter().enumerate() {
+            b.rho_pair[k] = rho_i + self.rho[j as usize];
+        }
+        self.pair_factors_batch(batch.indices().len(), b);
+        for (k, (j, slot)) in batch.iter().enumerate() {
+            visit(j, slot, xi - self.pos[j], b.r[k], b.get(k));
         }
     }
 
