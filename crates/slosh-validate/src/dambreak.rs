@@ -82,12 +82,15 @@ const MODERN_DAMBREAK_GAP: &str = "the modern front runs 9–12 % ahead of all f
     After the impact the wall pressure's vertical \
     gradient is too steep (T = 3–6: P1 +51 %, P3 +27 %, P4 −24 %, three-sensor mean +21 %; the \
     same at dx = 0.005 m: +20 %), and the corner sensor's first peak reads 2× high. Since the \
-    modern preset's smoothing length became h = 2 dx (from 1.5 dx) the first peak at Buchner's \
-    0.2 H reads −37 % (−3 % before; quick suite, dx = 0.01 m): the kernel's support now spans \
-    4 dx = 0.04 m of the wall, two thirds of the sensor's height, over which the Adami wall \
-    pressure is extrapolated; that this smoothing is the cause is suspected, not measured";
-/// The modern scheme's first-peak tolerance.
-const PEAK_TOL_MODERN: f64 = 0.20;
+    modern preset's smoothing length became h = 2 dx (from 1.5 dx) the windowed first peak at \
+    Buchner's 0.2 H reads −37 % (−2 % before; quick suite, dx = 0.01 m) and 1.18 ρgH (+71 %) \
+    without the window: a spike whose height the window sets, reported, not judged";
+/// Why the modern scheme's first peak at Buchner's 0.2 H is reported, not judged.
+const BUCHNER_PEAK_NOTE: &str = "reported, no tolerance: the first impact at 0.2 H is a spike \
+    whose height the load evaluation's time window sets (quick suite, dx = 0.01 m: 0.43 ρgH \
+    with the ±20-step window, 1.18 without it; with h = 1.5 dx 0.68 and 1.83), so it cannot be \
+    held to 20 % without the experiment's sensor response, which the digitised series does not \
+    give; the impact time and the post-impact mean are the judged rows";
 /// Pressure level (p/ρgH) that marks the impact: above the ±0.16 pre-impact scatter of the
 /// digitised Buchner data, below every post-impact value of both experiments.
 const IMPACT_LEVEL: f64 = 0.25;
@@ -460,6 +463,9 @@ fn wall_pressure_inner(ctx: &Context, scheme: &Scheme, group: &str) -> Result<Gr
     let weights: Vec<Vec<(usize, f64)>> = probes.iter().map(|p| probe_weights(p.1)).collect();
     let mut t_series: Vec<f64> = Vec::new();
     let mut p_series: Vec<Vec<f64>> = vec![Vec::new(); probes.len()];
+    // The same probes without the time window, every step.
+    let mut t_inst: Vec<f64> = Vec::new();
+    let mut p_inst: Vec<Vec<f64>> = vec![Vec::new(); probes.len()];
     let mut last_step = None;
     let mut steps = 0.0;
     let p_scale = RHO * GRAVITY * h;
@@ -471,6 +477,11 @@ fn wall_pressure_inner(ctx: &Context, scheme: &Scheme, group: &str) -> Result<Gr
         "the dam break stopped",
         |sim| {
             steps += n_all;
+            t_inst.push(sim.time() * t_scale);
+            let p = sim.loads().instantaneous_pressure();
+            for (k, w) in weights.iter().enumerate() {
+                p_inst[k].push(w.iter().map(|&(i, wi)| wi * p[i]).sum::<f64>() / p_scale);
+            }
             if let Some(c) = sim.loads().centred() {
                 if last_step != Some(c.step) {
                     last_step = Some(c.step);
@@ -585,19 +596,19 @@ fn wall_pressure_inner(ctx: &Context, scheme: &Scheme, group: &str) -> Result<Gr
             "{label}: first impact peak p/(ρgH) (within {FIRST_PEAK_WINDOW} of the impact)"
         );
         if !scheme.is_paper && k == buchner_probe {
-            g.checks.push(judged(
-                scheme,
-                relative_check(
-                    group,
-                    &peak_name,
-                    peak_sph,
-                    peak_exp,
-                    "",
-                    PEAK_TOL_MODERN,
-                    "20 % (within 20 % of Buchner or Lobovsky): at 0.2 H the first impact is \
-                 a rise, not a spike, so its peak does not depend on the ±20-step window; the \
-                 corner sensor P1 is reported",
+            // Reported beside the windowed peak: the same probe without the time window.
+            let peak_inst = first_peak(&t_inst, &p_inst[k], t_imp_sph);
+            g.checks.push(info_row(
+                group,
+                &peak_name,
+                format!("{} (±N-step window); {} without it", fmt_num(peak_sph), fmt_num(peak_inst)),
+                fmt_num(peak_exp),
+                format!(
+                    "{:+.1} %; {:+.1} % without the window",
+                    100.0 * (peak_sph / peak_exp - 1.0),
+                    100.0 * (peak_inst / peak_exp - 1.0)
                 ),
+                BUCHNER_PEAK_NOTE,
             ));
         } else {
             g.checks.push(info_row(
