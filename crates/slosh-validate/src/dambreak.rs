@@ -601,7 +601,11 @@ fn wall_pressure_inner(ctx: &Context, scheme: &Scheme, group: &str) -> Result<Gr
             g.checks.push(info_row(
                 group,
                 &peak_name,
-                format!("{} (±N-step window); {} without it", fmt_num(peak_sph), fmt_num(peak_inst)),
+                format!(
+                    "{} (±N-step window); {} without it",
+                    fmt_num(peak_sph),
+                    fmt_num(peak_inst)
+                ),
                 fmt_num(peak_exp),
                 format!(
                     "{:+.1} %; {:+.1} % without the window",

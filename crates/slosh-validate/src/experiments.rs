@@ -340,7 +340,10 @@ fn linear_reference(e: &Experiment, t: &[f64]) -> Vec<f64> {
         .map(|k| a * w * w * (w * k as f64 * dt).cos())
         .collect();
     let states = time_history_response(&tank, dt, &force, 20, 0.0);
-    let eta: Vec<f64> = states.iter().map(|s| tank.elevation(s, e.gauge_x)).collect();
+    let eta: Vec<f64> = states
+        .iter()
+        .map(|s| tank.elevation(s, e.gauge_x))
+        .collect();
     let times: Vec<f64> = states.iter().map(|s| s.time).collect();
     t.iter().map(|&ti| interpolate(&times, &eta, ti)).collect()
 }

@@ -4,7 +4,9 @@
 //! what a fluid pair and a wall pair add; the drivers decide which pairs it sees and in
 //! which order.
 
-use super::{colour_sweep, forward_pairs_batched, split_walls, Block, ForwardPairBatch, Slot, Sweep};
+use super::{
+    colour_sweep, forward_pairs_batched, split_walls, Block, ForwardPairBatch, Slot, Sweep,
+};
 use crate::neighbours::{CellGrid, NeighbourSearch};
 use crate::sim::{NeighbourLists, Vector, LIST_OVERFLOW, PAR_CHUNK, WALL_NEIGHBOUR};
 use crate::terms::{ForceSweep, PairFactorBatch};
