@@ -7,7 +7,7 @@
 use super::run::{
     fitted_slope, hydrostatic_fit, interpolate, rms, Context, Runner, SineExcitation, GRAVITY, RHO,
 };
-use super::three_d::{com_x, cylinder_forced_inner, free_run, ComHistory, ForcedCylinder};
+use super::three_d::{cylinder_forced_inner, free_run, free_run_observed, ForcedCylinder};
 use super::{
     failed_run, fmt_num, info_row, open_if_failed, relative_check, stayed_inside, Check,
     GroupResult, Verdict,
@@ -824,37 +824,18 @@ pub fn first_run_section(ctx: &Context) -> GroupResult {
                 sim.sound_speed(),
                 sim.fluid().position.len()
             ));
-            let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
             let gauges = [0.25 * width, 0.5 * width, 0.75 * width];
-            let mut history = ComHistory {
-                t: vec![sim.time()],
-                x: vec![com_x(&sim)],
-            };
-            let (mut level_sum, mut level_n, mut steps, mut next) = (0.0, 0.0f64, 0.0, 0.0);
-            let sample = t1 / 100.0;
-            step_until(
-                &mut sim,
-                |_| [0.0; 3],
-                3.3 * t1,
-                "stopped",
-                |sim| {
-                    steps += n_all;
-                    if sim.time() >= next {
-                        next += sample;
-                        history.t.push(sim.time());
-                        history.x.push(com_x(sim));
-                        if sim.time() >= 0.5 * t1 {
-                            for x in gauges {
-                                if let Some(z) = sim.surface_level_at(&[x]) {
-                                    level_sum += z - floor;
-                                    level_n += 1.0;
-                                }
-                            }
+            let (mut level_sum, mut level_n) = (0.0, 0.0f64);
+            let (history, steps) = free_run_observed(&mut sim, 3.3 * t1, t1 / 100.0, |sim| {
+                if sim.time() >= 0.5 * t1 {
+                    for x in gauges {
+                        if let Some(z) = sim.surface_level_at(&[x]) {
+                            level_sum += z - floor;
+                            level_n += 1.0;
                         }
                     }
-                    Ok(())
-                },
-            )?;
+                }
+            })?;
             Ok((
                 history.period(),
                 t1,

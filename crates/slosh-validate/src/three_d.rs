@@ -136,16 +136,27 @@ impl ComHistory {
     }
 }
 
-pub(crate) fn com_x<const D: usize>(sim: &Simulation<D>) -> f64 {
+fn com_x<const D: usize>(sim: &Simulation<D>) -> f64 {
     let f = &sim.fluid().position;
     f.iter().map(|p| p[0]).sum::<f64>() / f.len() as f64
 }
 
-/// Runs a 3D simulation without excitation to `t_end`, sampling the centre of mass.
+/// Runs a simulation without excitation to `t_end`, sampling the centre of mass every
+/// `sample` s.
 pub(crate) fn free_run<const D: usize>(
     sim: &mut Simulation<D>,
     t_end: f64,
     sample: f64,
+) -> Result<(ComHistory, f64)> {
+    free_run_observed(sim, t_end, sample, |_| {})
+}
+
+/// [`free_run`], calling `observe` with the simulation at every sample as well.
+pub(crate) fn free_run_observed<const D: usize>(
+    sim: &mut Simulation<D>,
+    t_end: f64,
+    sample: f64,
+    mut observe: impl FnMut(&Simulation<D>),
 ) -> Result<(ComHistory, f64)> {
     let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
     let mut h = ComHistory {
@@ -165,6 +176,7 @@ pub(crate) fn free_run<const D: usize>(
                 next += sample;
                 h.t.push(sim.time());
                 h.x.push(com_x(sim));
+                observe(sim);
             }
             Ok(())
         },
