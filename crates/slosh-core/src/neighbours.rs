@@ -40,10 +40,6 @@ pub struct CellGrid<const D: usize> {
     /// Lower corner, in grid axis order.
     origin: SVector<f64, D>,
     inv_cell: f64,
-    /// Cell width (m).
-    cell: f64,
-    /// Square of the support the grid answers for (m²).
-    support_sq: f64,
     /// Cells visited on each side of a point's cell (cells are support/REACH wide).
     reach: usize,
     /// Cells along each grid axis.
@@ -118,8 +114,6 @@ impl<const D: usize> CellGrid<D> {
             axes,
             origin,
             inv_cell: 1.0 / cell_size,
-            cell: cell_size,
-            support_sq: support * support,
             reach,
             dims,
             fluid_cell_start: vec![0; n_cells + 1],
@@ -243,13 +237,14 @@ impl<const D: usize> CellGrid<D> {
         let starts = &self.fluid_cell_start;
         let c = self.cell_coords(x);
         let reach = self.reach as i64;
+        let x_lo = c[0].saturating_sub(self.reach);
+        let x_hi = (c[0] + self.reach).min(self.dims[0] - 1);
         // The own row from the slot after i, then the rows of higher index in axes 1..D
-        // (offsets compared with the last axis most significant), each cut to the cells that
-        // can hold a point within the support.
+        // (offsets compared with the last axis most significant).
         let mut offsets = [0i64; D];
         let mut first = true;
         loop {
-            if let Some((row, x_lo, x_hi)) = self.row_within_support(x, &c, &offsets) {
+            if let Some(row) = self.row_start(&c, &offsets) {
                 let end = starts[row + x_hi + 1] as usize;
                 // One call site, so that the compiler inlines `visit`.
                 let begin = if first {
@@ -264,54 +259,6 @@ impl<const D: usize> CellGrid<D> {
                 return;
             }
         }
-    }
-
-    /// The row of the stencil of the point `x` (in cell `c`) shifted by `offsets` in axes
-    /// 1..D, cut to the cells along axis 0 that can hold a point within the support of `x`:
-    /// (linear index of the row's first cell, first and last cell along axis 0), or `None`
-    /// when the row is outside the grid or wholly beyond the support. The cut is exact cell
-    /// geometry with a margin of 1e-9 of a cell (a point within the support is never cut,
-    /// and a point put in a border cell from outside the grid lies beyond that cell's slab,
-    /// so no nearer than it), and the points visited keep their order: a search sees the same
-    /// neighbours in the same order as over the whole row, among fewer candidates (in 3D
-    /// with cells of half the support, 84 of the 125 stencil cells on average).
-    #[inline(always)]
-    fn row_within_support(
-        &self,
-        x: &SVector<f64, D>,
-        c: &[usize; D],
-        offsets: &[i64; D],
-    ) -> Option<(usize, usize, usize)> {
-        let row = self.row_start(c, offsets)?;
-        let margin = 1e-9 * self.cell;
-        // Squared distance from x to the row's slab across axes 1..D.
-        let mut across = 0.0;
-        for k in 1..D {
-            let xk = x[self.axes[k]] - self.origin[k];
-            let gap = match offsets[k] {
-                o if o > 0 => (c[k] as i64 + o) as f64 * self.cell - xk,
-                o if o < 0 => xk - (c[k] as i64 + o + 1) as f64 * self.cell,
-                _ => 0.0,
-            };
-            let gap = (gap - margin).max(0.0);
-            across += gap * gap;
-        }
-        if across >= self.support_sq {
-            return None;
-        }
-        let half = (self.support_sq - across).sqrt() + margin;
-        let x0 = x[self.axes[0]] - self.origin[0];
-        let cell_of = |v: f64| -> usize {
-            let f = v * self.inv_cell;
-            if f > 0.0 {
-                (f as usize).min(self.dims[0] - 1)
-            } else {
-                0 // negative, or NaN
-            }
-        };
-        let lo = cell_of(x0 - half).max(c[0].saturating_sub(self.reach));
-        let hi = cell_of(x0 + half).min(c[0] + self.reach);
-        (lo <= hi).then_some((row, lo, hi))
     }
 
     /// Linear index of the first cell of the row through cell `c` shifted by `offsets` in
@@ -412,30 +359,6 @@ impl<const D: usize> CellGrid<D> {
             }
         }
     }
-
-    /// As [`Self::for_each_row`], each row cut to the cells that can hold a point within the
-    /// support of `x` ([`Self::row_within_support`]).
-    #[inline(always)]
-    fn for_each_row_within_support<F: FnMut(usize, usize)>(
-        &self,
-        x: &SVector<f64, D>,
-        mut visit: F,
-    ) {
-        let c = self.cell_coords(x);
-        let reach = self.reach as i64;
-        let mut offsets = [0i64; D];
-        for o in offsets.iter_mut().skip(1) {
-            *o = -reach;
-        }
-        loop {
-            if let Some((row, lo, hi)) = self.row_within_support(x, &c, &offsets) {
-                visit(row + lo, row + hi + 1);
-            }
-            if !next_row(&mut offsets, reach) {
-                return;
-            }
-        }
-    }
 }
 
 impl<const D: usize> NeighbourSearch<D> for CellGrid<D> {
@@ -453,7 +376,7 @@ impl<const D: usize> NeighbourSearch<D> for CellGrid<D> {
 
     #[inline(always)]
     fn for_each_fluid_candidate<F: FnMut(usize)>(&self, x: &SVector<f64, D>, mut visit: F) {
-        self.for_each_row_within_support(x, |c0, c1| {
+        self.for_each_row(x, |c0, c1| {
             let (b, e) = (
                 self.fluid_cell_start[c0] as usize,
                 self.fluid_cell_start[c1] as usize,
@@ -469,7 +392,7 @@ impl<const D: usize> NeighbourSearch<D> for CellGrid<D> {
         if !self.wall_near[self.cell_index(x)] {
             return;
         }
-        self.for_each_row_within_support(x, |c0, c1| {
+        self.for_each_row(x, |c0, c1| {
             let (b, e) = (
                 self.wall_cell_start[c0] as usize,
                 self.wall_cell_start[c1] as usize,
