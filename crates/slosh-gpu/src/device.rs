@@ -428,6 +428,17 @@ impl<const D: usize> GpuStep<D> {
     }
 
     fn map_read(&self, staging: &wgpu::Buffer, bytes: u64) -> Result<Vec<u8>, SimError> {
+        self.with_mapped(staging, bytes, |view| view.to_vec())
+    }
+
+    /// Maps the first `bytes` of `staging` for reading and hands them to `read` in place (no
+    /// host copy), then unmaps the buffer.
+    fn with_mapped<R>(
+        &self,
+        staging: &wgpu::Buffer,
+        bytes: u64,
+        read: impl FnOnce(&[u8]) -> R,
+    ) -> Result<R, SimError> {
         let slice = staging.slice(..);
         slice.map_async(wgpu::MapMode::Read, |_| {});
         self.device
@@ -437,7 +448,7 @@ impl<const D: usize> GpuStep<D> {
             let view = slice
                 .get_mapped_range()
                 .map_err(|e| self.fail(format!("reading back: {e}")))?;
-            view[..bytes as usize].to_vec()
+            read(&view[..bytes as usize])
         };
         staging.unmap();
         Ok(out)
@@ -552,8 +563,14 @@ impl<const D: usize> StepDevice<D> for GpuStep<D> {
         body_force: Vector<D>,
         walls: &mut Walls<D>,
     ) -> Result<DeviceStepReport<D>, SimError> {
-        let body: Vec<f64> = body_force.iter().copied().collect();
-        self.write_reals("body", &body);
+        // The body force in the device's precision, from arrays on the stack.
+        if self.constants.single {
+            let body: [f32; D] = std::array::from_fn(|k| body_force[k] as f32);
+            self.write("body", &body);
+        } else {
+            let body: [f64; D] = std::array::from_fn(|k| body_force[k]);
+            self.write("body", &body);
+        }
         let step_start = Instant::now();
         if self.profile {
             for k in 0..self.kernels.len() {
@@ -607,40 +624,37 @@ impl<const D: usize> StepDevice<D> for GpuStep<D> {
         }
         self.queue.submit([encoder.finish()]);
         let step_bytes = self.staging_step.size();
-        let raw = self.map_read(&self.staging_step, step_bytes)?;
         let single = self.constants.single;
         let state_end = state_bytes as usize;
-        let words = &raw[..state_end];
-        let word = |k: usize| real_at(words, k, single);
-        let flags: &[u32] = bytemuck::cast_slice(&raw[state_end..state_end + FLAG_WORDS * 4]);
-        if wall_bytes > 0 {
-            let raw_walls = self.map_read(&self.staging_walls, wall_bytes)?;
-            for (k, &w) in self.wall_host_index.iter().enumerate() {
-                let (p, rho) = (
-                    real_at(&raw_walls, 2 * k, single),
-                    real_at(&raw_walls, 2 * k + 1, single),
-                );
-                let w = w as usize;
-                walls.pressure[w] = p;
-                walls.density[w] = rho;
-                walls.inverse_density[w] = 1.0 / rho;
+        // The step report and the wall state are read where the device mapped them.
+        let report = self.with_mapped(&self.staging_step, step_bytes, |raw| {
+            let word = |k: usize| real_at(&raw[..state_end], k, single);
+            let flags: &[u32] = bytemuck::cast_slice(&raw[state_end..state_end + FLAG_WORDS * 4]);
+            DeviceStepReport {
+                dt: word(0),
+                max_speed: word(1),
+                max_acceleration: word(2),
+                non_finite: flags[0],
+                outside: flags[1],
+                first_outside: (flags[1] > 0).then(|| Vector::<D>::from_fn(|k, _| word(3 + k))),
             }
+        })?;
+        if wall_bytes > 0 {
+            let index = &self.wall_host_index;
+            self.with_mapped(&self.staging_walls, wall_bytes, |raw| {
+                for (k, &w) in index.iter().enumerate() {
+                    let (p, rho) = (real_at(raw, 2 * k, single), real_at(raw, 2 * k + 1, single));
+                    let w = w as usize;
+                    walls.pressure[w] = p;
+                    walls.density[w] = rho;
+                    walls.inverse_density[w] = 1.0 / rho;
+                }
+            })?;
         }
         if !self.profile {
             self.step_time += step_start.elapsed().as_secs_f64();
         }
-        let mut first = Vector::<D>::zeros();
-        for k in 0..D {
-            first[k] = word(3 + k);
-        }
-        Ok(DeviceStepReport {
-            dt: word(0),
-            max_speed: word(1),
-            max_acceleration: word(2),
-            non_finite: flags[0],
-            outside: flags[1],
-            first_outside: (flags[1] > 0).then_some(first),
-        })
+        Ok(report)
     }
 
     fn download(&mut self, fluid: &mut Fluid<D>) -> Result<(), SimError> {
