@@ -89,16 +89,6 @@ impl Case {
         }
     }
 
-    /// Body force on the liquid in the tank's frame (m/s²) at time `t` (s) since the start of
-    /// the excitation: f = −A Ω² sin Ω t.
-    fn body_force_at(&self, t: f64) -> f64 {
-        if t < 0.0 {
-            0.0
-        } else {
-            -self.amplitude * self.omega * self.omega * (self.omega * t).sin()
-        }
-    }
-
     fn excitation(&self) -> SineExcitation {
         SineExcitation {
             amplitude: self.amplitude,
@@ -279,7 +269,8 @@ fn forced_run(
     let shear_windows = half_cycle_windows(&tt, &shear_theory);
     let shear = extreme_ratios(&shear_windows, &load_t, &shear_sph);
     let liquid_mass = particle_mass * runner.sim.fluid().velocity.len() as f64;
-    let body_force = |t: f64| case.body_force_at(t);
+    // The liquid feels −a_g; the momentum samples' times are since the excitation start.
+    let body_force = |t: f64| -excitation.ground_accel(t + settle);
     let (ts_momentum, by_momentum) = momentum_shear(&ts_inner, &momentum, liquid_mass, body_force);
     let by_momentum = running_mean(&ts_momentum, &by_momentum, SHEAR_MEAN_HALF);
     let shear_momentum = extreme_ratios(&shear_windows, &ts_momentum, &by_momentum);
