@@ -784,12 +784,16 @@ fn cylinder_free(ctx: &Context, n: f64) -> GroupResult {
     g
 }
 
-/// What is known of the paper scheme's still level beyond 0.5 % in the first-run section.
-const PAPER_LEVEL_GAP: &str = "the paper scheme's surface settles 0.1–0.3 % of the depth below \
-    the level the Tait EOS predicts (its summation density, Eq. 19–20, at the free surface; the \
-    same in its laboratory twin under 20 m, stage 'hydrostatics at depth'), on top of the \
-    0.40 % compression the sound-speed rule allows; a stiffer liquid (k = 13) left it at \
-    −0.5 %: the Tait part shrank and the surface part grew. Not isolated";
+/// What is known of the paper scheme's still level beyond 0.5 % in the first-run section
+/// (`docs/validation.md`, *The paper scheme's still level at real scale*).
+const PAPER_LEVEL_GAP: &str = "the paper scheme's liquid holds the volume the Tait EOS gives \
+    (Σ m/ρ within 0.01 % of it), but its dynamic walls (§2.5, summation density and the EOS) \
+    push back only as hard as the liquid packs them, and the rows next to the floor and the \
+    side walls close in to 0.25–0.3 dx of the wall face instead of the lattice's 0.5 dx, \
+    so the surface sits ≈ 0.2 dx below the Tait level; at rest it settles over ≈ 20 s to −0.70 % \
+    at dx = 0.25 m (this stage reads it before it has settled). A stiffer liquid (k = 15, 20) \
+    shrinks the Tait part only, and a start in the liquid's own compression settles lower \
+    still (−0.8 %): not a sound-speed setting, a property of the paper's walls";
 
 /// The 24 m section with 13 m of water under a 16 m roof, started with the surface tilted
 /// by 0.5 m (rising linearly to the left wall) and left to slosh, run as a user first runs
