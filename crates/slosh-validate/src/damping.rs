@@ -434,10 +434,9 @@ const VISCOUS_GAP: &str = "with h = 2 dx the rate came out +12.9 / +9.0 / +5.9 /
     of the exact rate and the viscous part γ − γ₀ −2 %: a miss here is a change of the scheme";
 
 /// Why the 15-per-depth row is reported: the exact decay rate `exact` (1/s) of the viscous
-/// liquid in the tank `width` × `depth` m lies below the irrotational 2νk² (Lamb 1932, the
-/// dissipation of the irrotational motion)
-/// by the vortical layer of thickness √(2ν/ω) under the free surface, which spacing `dx` (m)
-/// and the kernel's support 4 dx may not resolve.
+/// liquid in the tank `width` × `depth` m lies below 2νk², the rate of the dissipation of the
+/// irrotational motion (Lamb 1932), by a vortical layer of thickness √(2ν/ω) under the free
+/// surface, which the spacing `dx` (m) and the kernel's support 4 dx may not resolve.
 fn unresolved_layer(width: f64, depth: f64, dx: f64, exact: f64) -> String {
     let k = rectangular_wavenumber(width, 1);
     let omega = rectangular_omega(width, depth, GRAVITY, 1);
