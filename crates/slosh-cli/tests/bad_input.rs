@@ -39,9 +39,20 @@ fn ground_accel(t) {{ {ground_accel_body} }}
     path
 }
 
-/// Runs `slosh run` and returns (success, stderr).
+/// Runs `slosh` in the folder of the case script among `args` and returns (success, stderr).
+/// A run given no `--out` writes to `out/<case>` under its working folder: run from the
+/// test's own folder, tests that run at the same time never share (and lock) one run folder.
 fn run(args: &[&str]) -> (bool, String) {
-    let out = slosh().args(args).output().expect("run slosh");
+    let cwd = args
+        .iter()
+        .find(|a| a.ends_with(".rhai"))
+        .and_then(|a| Path::new(a).parent())
+        .map_or_else(std::env::temp_dir, Path::to_path_buf);
+    let out = slosh()
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("run slosh");
     let stderr = String::from_utf8_lossy(&out.stderr).to_string();
     assert!(
         !stderr.contains("panicked") && !stderr.contains("RUST_BACKTRACE"),
