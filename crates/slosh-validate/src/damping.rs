@@ -434,15 +434,14 @@ const VISCOUS_GAP: &str = "with h = 2 dx the rate came out +12.9 / +9.0 / +5.9 /
     of the exact rate and the viscous part γ − γ₀ −2 %: a miss here is a change of the scheme";
 
 /// Why the 15-per-depth row is reported: the exact decay rate `exact` (1/s) of the viscous
-/// liquid in the tank `width` × `depth` m lies below 2νk², the rate of the dissipation of the
+/// liquid of `run` in a tank `width` m wide lies below 2νk², the rate of the dissipation of the
 /// irrotational motion (Lamb 1932), by a vortical layer of thickness √(2ν/ω) under the free
-/// surface, which the spacing `dx` (m) and the kernel's support 4 dx may not resolve.
-fn unresolved_layer(width: f64, depth: f64, dx: f64, exact: f64) -> String {
+/// surface, which the run's spacing and the kernel's support 4 dx may not resolve.
+fn unresolved_layer(run: &DecayRun, width: f64, exact: f64) -> String {
     let k = rectangular_wavenumber(width, 1);
-    let omega = rectangular_omega(width, depth, GRAVITY, 1);
     let irrotational = 2.0 * VISCOUS_NU * k * k;
-    let layer = (2.0 * VISCOUS_NU / omega).sqrt();
-    let tenth = free_slip_viscous_mode(width, depth, VISCOUS_NU / 10.0, GRAVITY, 1)
+    let layer = (2.0 * VISCOUS_NU / run.omega).sqrt();
+    let tenth = free_slip_viscous_mode(width, run.depth, VISCOUS_NU / 10.0, GRAVITY, 1)
         .map_or(f64::NAN, |s| 1.0 + s.re / (irrotational / 10.0));
     format!(
         "reported, not judged (the damping targets stand at 20 and 40 per depth). The exact rate \
@@ -454,7 +453,7 @@ fn unresolved_layer(width: f64, depth: f64, dx: f64, exact: f64) -> String {
         100.0 * (1.0 - exact / irrotational),
         100.0 * layer,
         100.0 * tenth,
-        layer / dx,
+        layer / run.dx,
     )
 }
 
@@ -1007,7 +1006,7 @@ pub fn viscous_decay(ctx: &Context) -> GroupResult {
                     } else if judged {
                         check.verdict = Verdict::Info;
                         check.reason = if n < VISCOUS_JUDGED_LEVELS[0] {
-                            unresolved_layer(w, run.depth, run.dx, exact)
+                            unresolved_layer(&run, w, exact)
                         } else {
                             "reported, not judged: the damping targets stand at 20 and 40 per \
                              depth"
