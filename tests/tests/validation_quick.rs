@@ -14,6 +14,7 @@ fn quick_validation_suite_passes() {
         out: out.clone(),
         progress: Some(|line| eprintln!("{line}")),
         only: None,
+        checkpoint_every: None,
     })
     .expect("the validation suite runs");
 

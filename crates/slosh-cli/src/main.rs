@@ -77,6 +77,11 @@ struct ValidateArgs {
     /// `--only "dam break"` (case-insensitive).
     #[arg(long)]
     only: Option<String>,
+    /// Wall time between checkpoints of the longest runs (the hours-long real-scale and 3D
+    /// stages) into OUT/checkpoint/ (600, 30s, 10m, 1h; 0 = none); the same stage run again
+    /// with the same --out continues from its checkpoint.
+    #[arg(long, value_name = "DURATION", default_value = "10m")]
+    checkpoint_every: String,
 }
 
 #[derive(Args)]
@@ -308,7 +313,12 @@ fn main() -> ExitCode {
             }
         }
         Command::Validate(args) => {
-            match slosh_cli::validate::cli_validate(args.quick, args.out, args.only) {
+            let validated = slosh_case::checkpoint::parse_every(&args.checkpoint_every)
+                .map_err(|e| anyhow::anyhow!("--checkpoint-every {e}"))
+                .and_then(|every| {
+                    slosh_cli::validate::cli_validate(args.quick, args.out, args.only, every)
+                });
+            match validated {
                 Ok(true) => Ok(()),
                 Ok(false) => {
                     eprintln!("validation: at least one check FAILED (see the report)");

@@ -1,18 +1,25 @@
-//! `slosh validate [--quick] [--out DIR] [--only TEXT]`: runs the validation suite of
+//! `slosh validate [--quick] [--out DIR] [--only TEXT] [--checkpoint-every D]`: runs the validation suite of
 //! `slosh-validate` with progress lines on stderr and prints one line per check.
 
 use anyhow::Result;
 use slosh_validate::{run_validation, ValidateOptions, ValidationReport};
 use std::path::PathBuf;
 
-/// The `slosh validate [--quick] [--out DIR]` command: runs the suite, prints the table and
-/// where the report is; returns true when every check passed.
-pub fn cli_validate(quick: bool, out: PathBuf, only: Option<String>) -> Result<bool> {
+/// The `slosh validate` command: runs the suite, prints the table and where the report is;
+/// returns true when every check passed. `checkpoint_every`: wall time between checkpoints
+/// of the longest runs (`None`: none).
+pub fn cli_validate(
+    quick: bool,
+    out: PathBuf,
+    only: Option<String>,
+    checkpoint_every: Option<std::time::Duration>,
+) -> Result<bool> {
     let report = run_validation(&ValidateOptions {
         quick,
         out,
         progress: Some(|line| eprintln!("{line}")),
         only,
+        checkpoint_every,
     })?;
     print_summary(&report);
     Ok(report.all_pass())

@@ -414,3 +414,25 @@ fn cone_roof_section_runs_and_the_summary_names_its_parts() {
     assert!((value - roof).abs() < 1e-9 * roof, "{line}");
     assert!(summary.contains("(\"bottom\",") && summary.contains("(\"wall\","));
 }
+
+/// `slosh validate` refuses a checkpoint interval it cannot read before it runs anything,
+/// naming the option and the forms it takes.
+#[test]
+fn validate_refuses_a_bad_checkpoint_interval() {
+    let dir = temp("validate_checkpoint_every");
+    let out = dir.join("validate");
+    let (ok, stderr) = run(&[
+        "validate",
+        "--quick",
+        "--only",
+        "no such stage",
+        "--out",
+        out.to_str().unwrap(),
+        "--checkpoint-every",
+        "5 fortnights",
+    ]);
+    assert!(!ok);
+    assert!(stderr.contains("--checkpoint-every"), "{stderr}");
+    assert!(stderr.contains("10m"), "{stderr}");
+    assert!(!out.join("report.md").exists());
+}

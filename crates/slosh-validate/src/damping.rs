@@ -17,8 +17,9 @@
 //! slope of the zero-crossing times of η against their count. Potential theory gives
 //! ω₁² = g k tanh(k H), k = π/L (Lamb 1932, *Hydrodynamics*, §257).
 
+use super::resume::free_run_resumable;
 use super::run::{fitted_slope, zero_crossings, Context, Runner, SineExcitation, GRAVITY, RHO};
-use super::three_d::{free_run, ComHistory};
+use super::three_d::ComHistory;
 use super::{
     failed_run, fmt_num, info_row, open_if_failed, stayed_inside, Check, GroupResult, Verdict,
 };
@@ -803,9 +804,11 @@ pub(crate) fn free_decay_with(
 
 /// Upright cylinder of the 3D free decay: radius R and still depth H (m), depth/diameter 0.5.
 const CYLINDER: (f64, f64) = (0.5, 0.5);
-/// Its resolutions, particles per depth (here also per radius). 30 and 40 per depth
-/// (≈ 0.1 and 0.25 million particles) would take hours each on 2 cores and are not run.
+/// Its resolutions, particles per depth (here also per radius).
 const CYLINDER_LEVELS: [usize; 2] = [15, 20];
+/// The finer levels (≈ 0.1 and 0.25 million particles, hours each on 2 cores): a stage of
+/// their own, whose runs checkpoint and resume.
+const CYLINDER_FINE_LEVELS: [usize; 2] = [30, 40];
 /// What is known of the cylinder's damping beyond the 2D tanks' at the same resolution.
 const CYLINDER_GAP: &str = "with h = 2 dx the cylinder damps by ζ = 0.48 % at 15 and 0.38 % at \
     20 per depth (1.6 % at 12 per depth with h = 1.5 dx); what remains above the 2D tanks' \
@@ -821,12 +824,22 @@ const CYLINDER_GAP: &str = "with h = 2 dx the cylinder damps by ζ = 0.48 % at 1
 /// noise. Potential theory: ω₁² = (g ξ₁/R) tanh(ξ₁ H/R), ξ₁ = 1.8412 (Ibrahim 2005, *Liquid
 /// Sloshing Dynamics*, §1.3).
 pub fn cylinder_free_decay(ctx: &Context) -> GroupResult {
+    cylinder_decay_at(ctx, &CYLINDER_LEVELS, "damping_decay_cylinder")
+}
+
+/// [`cylinder_free_decay`] at [`CYLINDER_FINE_LEVELS`], where the damping target at 40 per
+/// depth stands.
+pub fn cylinder_free_decay_fine(ctx: &Context) -> GroupResult {
+    cylinder_decay_at(ctx, &CYLINDER_FINE_LEVELS, "damping_decay_cylinder_fine")
+}
+
+fn cylinder_decay_at(ctx: &Context, levels: &[usize], plot_stem: &str) -> GroupResult {
     let mut g = GroupResult::default();
     let label = "modern scheme, cylinder";
     let (radius, depth) = CYLINDER;
     let periods = PERIODS;
     let mut curves: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
-    for n in CYLINDER_LEVELS {
+    for &n in levels {
         let tank = format!("R = {radius} m, H = {depth} m, {n} per depth");
         let run = || -> anyhow::Result<(ComHistory, f64, f64, f64, Check)> {
             let dx = depth / n as f64;
@@ -846,7 +859,13 @@ pub fn cylinder_free_decay(ctx: &Context) -> GroupResult {
                 sim.fluid().position.len(),
                 sim.walls().position.len()
             ));
-            let (h, steps) = free_run(&mut sim, periods * t1, t1 / 200.0)?;
+            let (h, steps) = free_run_resumable(
+                ctx,
+                &format!("cylinder_decay_{n}"),
+                &mut sim,
+                periods * t1,
+                t1 / 200.0,
+            )?;
             Ok((h, t1, fill, steps, stayed_inside(GROUP, &sim)))
         };
         let start = std::time::Instant::now();
@@ -903,7 +922,7 @@ pub fn cylinder_free_decay(ctx: &Context) -> GroupResult {
     }
     g.add_line_plot(
         &ctx.out,
-        "damping_decay_cylinder",
+        plot_stem,
         &PlotSpec::new(
             format!("Free decay, {label}, R = {radius} m, H = {depth} m"),
             "t / T₁ (-)",

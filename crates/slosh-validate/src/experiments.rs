@@ -2,13 +2,17 @@
 //! rectangular tank under a horizontal harmonic sway, run as the experiment was and compared
 //! with its digitised record (`data/README.md`) without any fitted time shift or scaling.
 //!
-//! Two records: Faltinsen, Rognebakke, Lukovsky & Timokha (2000, *J. Fluid Mech.* 407,
+//! Three records: Faltinsen, Rognebakke, Lukovsky & Timokha (2000, *J. Fluid Mech.* 407,
 //! 201–234, Fig. 7), a 0.6 m deep tank swayed above its first mode (ω/ω₁ = 1.28) from rest,
-//! whose response beats with crests of 0.24 H; and Bouscasse, Antuono, Colagrossi & Lugni
+//! whose response beats with crests of 0.24 H; Bouscasse, Antuono, Colagrossi & Lugni
 //! (2013, *Int. J. Nonlinear Sci. Numer. Simul.* 14, 123–138, Fig. 19, series 5), a 3 cm deep
-//! layer swayed by 2.3 H (ω/ω₁ = 1.23) in which a bore runs to and fro, with crests of 2 H.
-//! The set-up of each (tank, depth, excitation, gauge, start) is the one the PySPH examples
-//! use to simulate the same experiment, the source of the digitised records.
+//! layer swayed by 2.3 H (ω/ω₁ = 1.23) in which a bore runs to and fro, with crests of 2 H;
+//! and Okamoto & Kawahara (1992, *Proc. JSCE* 441/I-18, 39–49), the experiment the paper
+//! compares its §3.1 case with (its Fig. 3 and ref. 17): the paper's 1 m tank with 0.5 m of
+//! water driven at its first mode (ω/ω₁ = 0.999), the wave at the left wall growing to steep
+//! crests of 0.5 H with troughs of 0.28 H. The set-up of the first two (tank, depth,
+//! excitation, gauge, start) is the one the PySPH examples use to simulate the same
+//! experiment, the source of the digitised records; the third is the paper's §3.1 case.
 //!
 //! Judged on the crests and the phase. Crests: every positive half cycle of the record (from
 //! an upward to a downward crossing of the still level) gives a crest; the simulation's crest
@@ -54,6 +58,7 @@ const PAPER_SETTLE: f64 = 2.0;
 const FALTINSEN: &str =
     include_str!("../../../data/sloshing_Faltinsen2000_h0p6_T1p3_elevation.csv");
 const BOUSCASSE: &str = include_str!("../../../data/sloshing_Bouscasse2013_series5_elevation.csv");
+const OKAMOTO: &str = include_str!("../../../data/sloshing_Okamoto1992_resonance_wall_level.csv");
 
 /// How the tank starts moving at the start of the experiment (time 0 of its record).
 #[derive(Clone, Copy, Debug)]
@@ -64,16 +69,25 @@ enum Start {
     /// x(t) = A sin ωt: the tank is set moving at A ω at t = 0, the liquid left at −A ω
     /// relative to it (Bouscasse et al. 2013 as PySPH runs it).
     SineImpulsive,
+    /// Tank acceleration A ω² sin ωt from rest: the liquid, at rest in the tank at t = 0,
+    /// feels the inertial force −A ω² sin ωt (the paper's §3.1, Okamoto & Kawahara 1992).
+    SineAccelerationFromRest,
 }
 
 /// One experiment.
 struct Experiment {
     /// Short label.
     label: &'static str,
+    /// File stem of its plot.
+    stem: &'static str,
     /// The digitised record (`data/`).
     data: &'static str,
     /// Whether the record's time column is t/T (else seconds).
     time_in_periods: bool,
+    /// The record's still level (m), subtracted from its second column: 0 where that column
+    /// is the elevation above the still level already, the depth where it is the level
+    /// above the floor.
+    datum: f64,
     /// Tank length L, height and still depth H (m).
     tank: (f64, f64, f64),
     /// Whether the tank has a roof at its height.
@@ -103,7 +117,7 @@ const FALTINSEN_START: &str = "the record is not the response to the stated exci
     (correlation row below) but its crest-to-trough heights come out ≈ 1.27 × the record's, \
     and the modern preset's heights are linear theory's (rows below), not the record's";
 
-fn experiments() -> [Experiment; 2] {
+fn experiments() -> [Experiment; 3] {
     let bouscasse_omega = {
         // ω = 1.231 ω₁ of the 1 m tank with H = 0.03 m (the series' definition).
         let k = std::f64::consts::PI / 1.0;
@@ -112,8 +126,10 @@ fn experiments() -> [Experiment; 2] {
     [
         Experiment {
             label: "Faltinsen et al. 2000, L = 1.73 m, H = 0.6 m, A = 0.032 m, T = 1.3 s",
+            stem: "faltinsen2000",
             data: FALTINSEN,
             time_in_periods: false,
+            datum: 0.0,
             tank: (1.73, 1.15, 0.6),
             roof: true,
             amplitude: 0.032,
@@ -125,8 +141,10 @@ fn experiments() -> [Experiment; 2] {
         },
         Experiment {
             label: "Bouscasse et al. 2013 series 5, L = 1 m, H = 0.03 m, A = 0.07 m",
+            stem: "bouscasse2013",
             data: BOUSCASSE,
             time_in_periods: true,
+            datum: 0.0,
             tank: (1.0, 0.2, 0.03),
             roof: false,
             amplitude: 2.333 * 0.03,
@@ -134,6 +152,21 @@ fn experiments() -> [Experiment; 2] {
             start: Start::SineImpulsive,
             gauge_x: 0.05,
             per_depth: (None, 10),
+            not_judged: None,
+        },
+        Experiment {
+            label: "Okamoto & Kawahara 1992, L = 1 m, H = 0.5 m, A = 0.0093 m, ω = 5.311 rad/s",
+            stem: "okamoto1992",
+            data: OKAMOTO,
+            time_in_periods: false,
+            datum: 0.5,
+            tank: (1.0, 1.0, 0.5),
+            roof: false,
+            amplitude: 0.0093,
+            omega: 5.311,
+            start: Start::SineAccelerationFromRest,
+            gauge_x: 0.02,
+            per_depth: (Some(25), 50),
             not_judged: None,
         },
     ]
@@ -199,6 +232,7 @@ fn simulate(
     let tank_accel = move |te: f64| match e.start {
         Start::CosineFromRest => -a * w * w * (w * te).cos(),
         Start::SineImpulsive => -a * w * w * (w * te).sin(),
+        Start::SineAccelerationFromRest => a * w * w * (w * te).sin(),
     };
     let start = std::time::Instant::now();
     let gauge = lo.x + e.gauge_x;
@@ -326,18 +360,24 @@ fn correlation(x: &[f64], y: &[f64]) -> f64 {
     sxy / (sxx * syy).sqrt()
 }
 
-/// Undamped linear modal theory of an experiment whose sway starts from rest at its extreme
-/// position ([`Start::CosineFromRest`]): the elevation at the gauge (m) at times `t` (s),
-/// 20 excited modes, the load sampled every 1 ms.
+/// Undamped linear modal theory of an experiment whose liquid starts from rest in the tank
+/// ([`Start::CosineFromRest`], [`Start::SineAccelerationFromRest`]): the elevation at the
+/// gauge (m) at times `t` (s), 20 excited modes, the load sampled every 1 ms.
 fn linear_reference(e: &Experiment, t: &[f64]) -> Vec<f64> {
     let (length, _, depth) = e.tank;
     let tank = RectangularTank::water(length, depth);
     let dt = 1e-3;
     let t_end = t.last().copied().unwrap_or(0.0);
     let (a, w) = (e.amplitude, e.omega);
-    // The liquid feels f = −a_tank = A ω² cos ωt.
+    // The liquid feels f = −a_tank.
     let force: Vec<f64> = (0..=(t_end / dt).ceil() as usize + 1)
-        .map(|k| a * w * w * (w * k as f64 * dt).cos())
+        .map(|k| {
+            let phase = w * k as f64 * dt;
+            match e.start {
+                Start::SineAccelerationFromRest => -a * w * w * phase.sin(),
+                _ => a * w * w * phase.cos(),
+            }
+        })
         .collect();
     let states = time_history_response(&tank, dt, &force, 20, 0.0);
     let eta: Vec<f64> = states
@@ -388,7 +428,7 @@ impl Agreement {
 /// both, beside linear theory of the same set-up where that applies.
 pub fn against_experiments(ctx: &Context) -> GroupResult {
     let mut g = GroupResult::default();
-    for (k, e) in experiments().iter().enumerate() {
+    for e in experiments().iter() {
         let Some(per_depth) = (if ctx.quick {
             e.per_depth.0
         } else {
@@ -400,7 +440,12 @@ pub fn against_experiments(ctx: &Context) -> GroupResult {
         let slack = 0.1 * period;
         let record: Vec<(f64, f64)> = read_record(e.data)
             .into_iter()
-            .map(|(t, eta)| (if e.time_in_periods { t * period } else { t }, eta))
+            .map(|(t, eta)| {
+                (
+                    if e.time_in_periods { t * period } else { t },
+                    eta - e.datum,
+                )
+            })
             .collect();
         let t_end = record.last().map_or(0.0, |p| p.0) + 0.05 * period;
         let mut curves: Vec<(String, Vec<f64>, Vec<f64>)> = vec![(
@@ -408,7 +453,7 @@ pub fn against_experiments(ctx: &Context) -> GroupResult {
             record.iter().map(|p| p.0).collect(),
             record.iter().map(|p| p.1).collect(),
         )];
-        if let Start::CosineFromRest = e.start {
+        if !matches!(e.start, Start::SineImpulsive) {
             let t: Vec<f64> = (0..=(t_end / 0.005) as usize)
                 .map(|i| i as f64 * 0.005)
                 .collect();
@@ -521,7 +566,7 @@ pub fn against_experiments(ctx: &Context) -> GroupResult {
             ));
             curves.push((format!("{scheme}, {per_depth} per depth"), s.t, s.eta));
         }
-        let stem = format!("experiment_{}", ["faltinsen2000", "bouscasse2013"][k]);
+        let stem = format!("experiment_{}", e.stem);
         g.add_line_plot(
             &ctx.out,
             &stem,
@@ -560,6 +605,10 @@ pub fn against_experiments(ctx: &Context) -> GroupResult {
                     "tank x = A sin ωt, the liquid starting at −Aω relative to it, as the PySPH \
                      example of the experiment"
                 }
+                Start::SineAccelerationFromRest => {
+                    "tank acceleration A ω² sin ωt from rest, the liquid at rest in the tank: \
+                     the inertial force −A ω² sin ωt of the paper's §3.1"
+                }
             },
         ));
     }
@@ -576,12 +625,13 @@ fn first_mode_omega(length: f64, depth: f64) -> f64 {
 mod tests {
     use super::*;
 
-    /// Both records parse in full (171 and 87 rows, `data/README.md`) and the correlation is
+    /// The records parse in full (171, 87 and 12 rows, `data/README.md`) and the correlation is
     /// that of its definition: 1 for a signal with itself, −1 against its negative.
     #[test]
     fn records_parse_and_correlation_is_pearson() {
         assert_eq!(read_record(FALTINSEN).len(), 171);
         assert_eq!(read_record(BOUSCASSE).len(), 87);
+        assert_eq!(read_record(OKAMOTO).len(), 12);
         let x: Vec<f64> = (0..50).map(|i| (0.3 * i as f64).sin()).collect();
         let neg: Vec<f64> = x.iter().map(|v| -v).collect();
         assert!((correlation(&x, &x) - 1.0).abs() < 1e-12);
@@ -634,5 +684,32 @@ mod tests {
             }
             assert!((got - want).abs() < 1e-4, "t = {ti}: {got} vs {want}");
         }
+    }
+
+    /// The same for the paper's §3.1 start: tank acceleration ẍ = A ω² sin ωt from rest gives
+    /// η_n = G (sin ωt − (ω/ω_n) sin ω_n t)/(ω_n² − ω²), G = 4 L ω_n² A ω²/(g n² π²): at
+    /// resonance the left wall rises in the first half period, as the record does.
+    #[test]
+    fn linear_reference_is_the_closed_form_of_a_sine_acceleration_from_rest() {
+        let e = &experiments()[2];
+        assert!(matches!(e.start, Start::SineAccelerationFromRest));
+        let (l, _, h) = e.tank;
+        let (a, w, g) = (e.amplitude, e.omega, 9.81);
+        let t = [0.6, 1.21, 3.03, 6.54];
+        let eta = linear_reference(e, &t);
+        for (ti, got) in t.iter().zip(&eta) {
+            let mut want = 0.0;
+            for j in 0..20 {
+                let n = (2 * j + 1) as f64;
+                let k = n * std::f64::consts::PI / l;
+                let wn2 = g * k * (k * h).tanh();
+                let wn = wn2.sqrt();
+                let gain = 4.0 * l * wn2 * a * w * w / (g * n * n * std::f64::consts::PI.powi(2));
+                want += gain * ((w * ti).sin() - w / wn * (wn * ti).sin()) / (wn2 - w * w)
+                    * (k * e.gauge_x).cos();
+            }
+            assert!((got - want).abs() < 1e-4, "t = {ti}: {got} vs {want}");
+        }
+        assert!(eta[0] > 0.0 && eta[1] < 0.0, "{eta:?}");
     }
 }

@@ -16,6 +16,7 @@ mod modern;
 mod real_scale;
 mod report;
 mod resolution;
+mod resume;
 mod run;
 mod sections;
 mod sloshing;
@@ -39,6 +40,10 @@ pub struct ValidateOptions {
     pub progress: Option<fn(&str)>,
     /// Run only the stages whose name contains this text (case-insensitive); `None` = all.
     pub only: Option<String>,
+    /// Wall time between checkpoints of the stages' longest runs, into `out/checkpoint/`;
+    /// the same stage run again with the same `out` continues from its checkpoint. `None`:
+    /// no checkpoints written or read.
+    pub checkpoint_every: Option<std::time::Duration>,
 }
 
 /// Outcome of one check.
@@ -317,6 +322,7 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
         quick: opts.quick,
         out: opts.out.clone(),
         progress: opts.progress,
+        checkpoint_every: opts.checkpoint_every,
     };
     type StageRun = Box<dyn Fn(&run::Context) -> Vec<(String, GroupResult)>>;
     type Stage<'a> = (&'a str, StageRun);
@@ -376,7 +382,7 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             "nonlinear sloshing against experiments",
             one(
                 "Nonlinear sloshing against experiments (Faltinsen et al. 2000, Bouscasse et \
-                 al. 2013)",
+                 al. 2013, Okamoto & Kawahara 1992)",
                 experiments::against_experiments,
             ),
         ),
@@ -470,6 +476,14 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             one(
                 "Sloshing damping: free decay in a cylinder (modern scheme)",
                 damping::cylinder_free_decay,
+            ),
+        ));
+        all.push((
+            "sloshing damping: fine cylinder decay, 30 and 40 particles per depth",
+            one(
+                "Sloshing damping: free decay in a cylinder at 30 and 40 per depth (modern \
+                 scheme)",
+                damping::cylinder_free_decay_fine,
             ),
         ));
         all.push((

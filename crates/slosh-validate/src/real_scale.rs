@@ -4,6 +4,7 @@
 //! 24 m cylinder against potential theory, with the numerical damping beside EN 1998-4's
 //! 0.5 %; a forced real-scale cylinder against the linear modal solution and Housner.
 
+use super::resume::free_run_resumable;
 use super::run::{
     fitted_slope, hydrostatic_fit, interpolate, rms, Context, Runner, SineExcitation, GRAVITY, RHO,
 };
@@ -731,7 +732,13 @@ fn cylinder_free(ctx: &Context, n: f64) -> GroupResult {
                 sim.fluid().position.len(),
                 sim.walls().position.len()
             ));
-            let (h, steps) = free_run(&mut sim, 2.6 * t1, t1 / 100.0)?;
+            let (h, steps) = free_run_resumable(
+                ctx,
+                &format!("real_cylinder_free_{n}"),
+                &mut sim,
+                2.6 * t1,
+                t1 / 100.0,
+            )?;
             let gamma = h.decay_rate(0.0, 0.5 * t1);
             let zeta = gamma * t1 / (2.0 * std::f64::consts::PI);
             Ok((

@@ -22,6 +22,9 @@ pub struct Context {
     pub out: PathBuf,
     /// Where progress lines go (`None` = nowhere).
     pub progress: Option<fn(&str)>,
+    /// Wall time between checkpoints of the long free runs (`None` = no checkpoints, and
+    /// none read).
+    pub checkpoint_every: Option<std::time::Duration>,
 }
 
 impl Context {

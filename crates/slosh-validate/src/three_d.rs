@@ -136,7 +136,7 @@ impl ComHistory {
     }
 }
 
-fn com_x<const D: usize>(sim: &Simulation<D>) -> f64 {
+pub(crate) fn com_x<const D: usize>(sim: &Simulation<D>) -> f64 {
     let f = &sim.fluid().position;
     f.iter().map(|p| p[0]).sum::<f64>() / f.len() as f64
 }

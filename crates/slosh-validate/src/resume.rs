@@ -1,0 +1,261 @@
+//! Free runs of the long stages (hours on 2 cores) that survive an interruption: the run's
+//! state goes into `OUT/checkpoint/<stem>.ckpt` every `--checkpoint-every` of wall time, and
+//! the same stage run again with the same `--out` continues from it instead of starting over.
+//! The checkpoint holds the simulation's state ([`SimState`]), the centre-of-mass record so
+//! far and what identifies the run (stage, particle counts, every solver parameter); one of
+//! another run is set aside with a message. A finished run deletes its checkpoint, so a later
+//! call of the stage (after a change of the code, say) runs afresh.
+
+use crate::run::{step_until, Context};
+use crate::three_d::{com_x, ComHistory};
+use anyhow::Result;
+use serde::{Deserialize, Serialize};
+use slosh_core::{SimState, Simulation};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// A free run's state between two steps, as written to disk.
+#[derive(Serialize, Deserialize)]
+struct FreeRunCheckpoint<const D: usize> {
+    /// What run this is (stage stem, particle counts, sampling, solver parameters).
+    key: String,
+    /// The simulation's evolving state.
+    sim: SimState<D>,
+    /// Sample times of the centre of mass so far (s).
+    t: Vec<f64>,
+    /// Centre of mass x at those times (m).
+    x: Vec<f64>,
+    /// Time of the next sample (s).
+    next_sample: f64,
+    /// Particle-steps taken so far.
+    particle_steps: f64,
+    /// Wall time of the run before this call (s).
+    wall_time_s: f64,
+}
+
+/// Where the run is: the record so far and the next sample.
+struct Progress {
+    history: ComHistory,
+    next_sample: f64,
+    particle_steps: f64,
+    wall_time_s: f64,
+}
+
+fn checkpoint_path(ctx: &Context, stem: &str) -> PathBuf {
+    ctx.out.join("checkpoint").join(format!("{stem}.ckpt"))
+}
+
+/// What identifies a free run: resuming is allowed only into the same stage, tank, sampling
+/// and parameters.
+fn run_key<const D: usize>(stem: &str, sim: &Simulation<D>, sample: f64) -> String {
+    format!(
+        "{stem}; {D}D; {} fluid + {} wall particles; sample every {sample:e} s; {:?}",
+        sim.fluid().position.len(),
+        sim.walls().position.len(),
+        sim.params()
+    )
+}
+
+/// Steps `sim` without excitation to `t_end`, sampling the centre of mass at
+/// `progress.next_sample` and every `sample` s after; `at_sample` is called after each
+/// sample with the simulation and the progress.
+fn advance<const D: usize>(
+    sim: &mut Simulation<D>,
+    progress: &mut Progress,
+    t_end: f64,
+    sample: f64,
+    mut at_sample: impl FnMut(&Simulation<D>, &Progress),
+) -> Result<()> {
+    let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
+    step_until(
+        sim,
+        |_| [0.0; 3],
+        t_end,
+        "stopped",
+        |sim| {
+            progress.particle_steps += n_all;
+            if sim.time() >= progress.next_sample {
+                progress.next_sample += sample;
+                progress.history.t.push(sim.time());
+                progress.history.x.push(com_x(sim));
+                at_sample(sim, progress);
+            }
+            Ok(())
+        },
+    )
+}
+
+/// [`crate::three_d::free_run`] for a run of hours: resumes from the stage's checkpoint in
+/// the output folder when there is one of this run, checkpoints every
+/// `ctx.checkpoint_every` of wall time, and deletes the checkpoint when the run is complete.
+/// Returns the centre-of-mass record from the start of the run and its particle-steps.
+pub(crate) fn free_run_resumable<const D: usize>(
+    ctx: &Context,
+    stem: &str,
+    sim: &mut Simulation<D>,
+    t_end: f64,
+    sample: f64,
+) -> Result<(ComHistory, f64)> {
+    let path = checkpoint_path(ctx, stem);
+    let key = run_key(stem, sim, sample);
+    let mut progress = Progress {
+        history: ComHistory {
+            t: vec![sim.time()],
+            x: vec![com_x(sim)],
+        },
+        next_sample: sim.time() + sample,
+        particle_steps: 0.0,
+        wall_time_s: 0.0,
+    };
+    if ctx.checkpoint_every.is_some() && path.exists() {
+        match slosh_io::read_checkpoint::<FreeRunCheckpoint<D>>(&path) {
+            Ok(c) if c.key == key => {
+                sim.restore(c.sim)?;
+                progress = Progress {
+                    history: ComHistory { t: c.t, x: c.x },
+                    next_sample: c.next_sample,
+                    particle_steps: c.particle_steps,
+                    wall_time_s: c.wall_time_s,
+                };
+                ctx.say(&format!(
+                    "continuing from {} at t = {:.3} s ({:.0} s of wall time before)",
+                    path.display(),
+                    sim.time(),
+                    c.wall_time_s
+                ));
+            }
+            Ok(_) => ctx.say(&format!(
+                "{} is of another run (tank, resolution or parameters differ): starting afresh",
+                path.display()
+            )),
+            Err(e) => ctx.say(&format!("{e}: starting afresh")),
+        }
+    }
+    let started = Instant::now();
+    let mut last_write = Instant::now();
+    let wall_before = progress.wall_time_s;
+    advance(sim, &mut progress, t_end, sample, |sim, p| {
+        let Some(every) = ctx.checkpoint_every else {
+            return;
+        };
+        if last_write.elapsed() < every {
+            return;
+        }
+        last_write = Instant::now();
+        let checkpoint = FreeRunCheckpoint {
+            key: key.clone(),
+            sim: sim.state(),
+            t: p.history.t.clone(),
+            x: p.history.x.clone(),
+            next_sample: p.next_sample,
+            particle_steps: p.particle_steps,
+            wall_time_s: wall_before + started.elapsed().as_secs_f64(),
+        };
+        // A checkpoint that cannot be written costs only the resume: the run goes on.
+        match slosh_io::write_checkpoint(&path, &checkpoint) {
+            Ok(_) => ctx.say(&format!(
+                "checkpoint at t = {:.2} s of {t_end:.2} s ({:.0} s of wall time)",
+                sim.time(),
+                checkpoint.wall_time_s
+            )),
+            Err(e) => ctx.say(&format!("no checkpoint written: {e}")),
+        }
+    })?;
+    progress.wall_time_s = wall_before + started.elapsed().as_secs_f64();
+    if path.exists() {
+        if let Err(e) = std::fs::remove_file(&path) {
+            ctx.say(&format!(
+                "cannot delete the finished run's {}: {e}",
+                path.display()
+            ));
+        }
+    }
+    if wall_before > 0.0 {
+        ctx.say(&format!(
+            "run complete: {:.0} s of wall time in all",
+            progress.wall_time_s
+        ));
+    }
+    Ok((progress.history, progress.particle_steps))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use slosh_core::SphParams;
+    use slosh_geometry::{InitialSurface, RectTank2};
+    use std::time::Duration;
+
+    fn tank() -> Simulation<2> {
+        let params = SphParams::modern();
+        let setup = RectTank2::new(0.4, 0.3, 0.2)
+            .with_roof(false)
+            .with_initial_tilt(0.02)
+            .with_initial_shape(InitialSurface::FirstMode)
+            .with_layers(params.wall_layers())
+            .build(0.02)
+            .expect("tank");
+        Simulation::new(setup, params).expect("simulation")
+    }
+
+    /// A run interrupted half way and continued from its checkpoint gives the record of the
+    /// uninterrupted run bit for bit (the state restores every quantity the next step reads),
+    /// and the finished run leaves no checkpoint behind.
+    #[test]
+    fn resumed_free_run_follows_the_uninterrupted_one() {
+        let dir = std::env::temp_dir().join(format!("slosh-resume-{}", std::process::id()));
+        let ctx = Context {
+            quick: true,
+            out: dir.clone(),
+            progress: None,
+            checkpoint_every: Some(Duration::ZERO),
+        };
+        let (t_mid, t_end, sample) = (0.25, 0.5, 0.01);
+        let mut whole = tank();
+        let (reference, reference_steps) =
+            free_run_resumable(&ctx, "decay", &mut whole, t_end, sample).expect("whole run");
+        assert!(!checkpoint_path(&ctx, "decay").exists());
+
+        // The first half, as an interrupted run leaves it: its last checkpoint on disk.
+        let mut first = tank();
+        let key = run_key("decay", &first, sample);
+        let mut progress = Progress {
+            history: ComHistory {
+                t: vec![0.0],
+                x: vec![com_x(&first)],
+            },
+            next_sample: sample,
+            particle_steps: 0.0,
+            wall_time_s: 0.0,
+        };
+        advance(&mut first, &mut progress, t_mid, sample, |_, _| {}).expect("first half");
+        let checkpoint = FreeRunCheckpoint {
+            key,
+            sim: first.state(),
+            t: progress.history.t.clone(),
+            x: progress.history.x.clone(),
+            next_sample: progress.next_sample,
+            particle_steps: progress.particle_steps,
+            wall_time_s: 1.0,
+        };
+        slosh_io::write_checkpoint(&checkpoint_path(&ctx, "decay"), &checkpoint).expect("write");
+
+        let mut resumed = tank();
+        let (history, steps) =
+            free_run_resumable(&ctx, "decay", &mut resumed, t_end, sample).expect("resumed run");
+        assert_eq!(history.t, reference.t);
+        assert_eq!(history.x, reference.x);
+        assert_eq!(steps, reference_steps);
+        assert!(!checkpoint_path(&ctx, "decay").exists());
+
+        // A checkpoint of another run (another stem's key) is set aside: the run starts afresh.
+        let mut other = checkpoint;
+        other.key = "another run".into();
+        slosh_io::write_checkpoint(&checkpoint_path(&ctx, "decay"), &other).expect("write");
+        let mut afresh = tank();
+        let (history, _) =
+            free_run_resumable(&ctx, "decay", &mut afresh, t_end, sample).expect("afresh");
+        assert_eq!(history.x, reference.x);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
