@@ -841,7 +841,8 @@ fn cylinder_decay_at(ctx: &Context, levels: &[usize], plot_stem: &str) -> GroupR
     let mut curves: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
     for &n in levels {
         let tank = format!("R = {radius} m, H = {depth} m, {n} per depth");
-        let run = || -> anyhow::Result<(ComHistory, f64, f64, f64, Check)> {
+        // (record, T₁ (s), fill (m), particle-steps, wall time of the run (s), inside check)
+        let run = || -> anyhow::Result<(ComHistory, f64, f64, f64, f64, Check)> {
             let dx = depth / n as f64;
             let setup =
                 CylinderTank::new(radius, (1.5 * depth / dx).round() * dx, depth, Roof::None)
@@ -859,19 +860,17 @@ fn cylinder_decay_at(ctx: &Context, levels: &[usize], plot_stem: &str) -> GroupR
                 sim.fluid().position.len(),
                 sim.walls().position.len()
             ));
-            let (h, steps) = free_run_resumable(
+            let (h, steps, wall_s) = free_run_resumable(
                 ctx,
                 &format!("cylinder_decay_{n}"),
                 &mut sim,
                 periods * t1,
                 t1 / 200.0,
             )?;
-            Ok((h, t1, fill, steps, stayed_inside(GROUP, &sim)))
+            Ok((h, t1, fill, steps, wall_s, stayed_inside(GROUP, &sim)))
         };
-        let start = std::time::Instant::now();
         match run() {
-            Ok((h, t1, fill, steps, inside)) => {
-                let wall_s = start.elapsed().as_secs_f64();
+            Ok((h, t1, fill, steps, wall_s, inside)) => {
                 g.particle_steps += steps;
                 g.checks.push(inside);
                 // The lattice is symmetric about the axis: the centre of mass at rest is x = 0.

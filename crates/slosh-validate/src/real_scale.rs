@@ -732,7 +732,7 @@ fn cylinder_free(ctx: &Context, n: f64) -> GroupResult {
                 sim.fluid().position.len(),
                 sim.walls().position.len()
             ));
-            let (h, steps) = free_run_resumable(
+            let (h, steps, _) = free_run_resumable(
                 ctx,
                 &format!("real_cylinder_free_{n}"),
                 &mut sim,

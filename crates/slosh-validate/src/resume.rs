@@ -88,14 +88,15 @@ fn advance<const D: usize>(
 /// [`crate::three_d::free_run`] for a run of hours: resumes from the stage's checkpoint in
 /// the output folder when there is one of this run, checkpoints every
 /// `ctx.checkpoint_every` of wall time, and deletes the checkpoint when the run is complete.
-/// Returns the centre-of-mass record from the start of the run and its particle-steps.
+/// Returns the centre-of-mass record from the start of the run, its particle-steps and its
+/// wall time (s) over every call that worked on it.
 pub(crate) fn free_run_resumable<const D: usize>(
     ctx: &Context,
     stem: &str,
     sim: &mut Simulation<D>,
     t_end: f64,
     sample: f64,
-) -> Result<(ComHistory, f64)> {
+) -> Result<(ComHistory, f64, f64)> {
     let path = checkpoint_path(ctx, stem);
     let key = run_key(stem, sim, sample);
     let mut progress = Progress {
@@ -176,7 +177,11 @@ pub(crate) fn free_run_resumable<const D: usize>(
             progress.wall_time_s
         ));
     }
-    Ok((progress.history, progress.particle_steps))
+    Ok((
+        progress.history,
+        progress.particle_steps,
+        progress.wall_time_s,
+    ))
 }
 
 #[cfg(test)]
@@ -212,7 +217,7 @@ mod tests {
         };
         let (t_mid, t_end, sample) = (0.25, 0.5, 0.01);
         let mut whole = tank();
-        let (reference, reference_steps) =
+        let (reference, reference_steps, _) =
             free_run_resumable(&ctx, "decay", &mut whole, t_end, sample).expect("whole run");
         assert!(!checkpoint_path(&ctx, "decay").exists());
 
@@ -241,8 +246,10 @@ mod tests {
         slosh_io::write_checkpoint(&checkpoint_path(&ctx, "decay"), &checkpoint).expect("write");
 
         let mut resumed = tank();
-        let (history, steps) =
+        let (history, steps, wall_s) =
             free_run_resumable(&ctx, "decay", &mut resumed, t_end, sample).expect("resumed run");
+        // The wall time counts the interrupted part (1 s in its checkpoint) as well.
+        assert!(wall_s >= 1.0, "{wall_s}");
         assert_eq!(history.t, reference.t);
         assert_eq!(history.x, reference.x);
         assert_eq!(steps, reference_steps);
@@ -253,7 +260,7 @@ mod tests {
         other.key = "another run".into();
         slosh_io::write_checkpoint(&checkpoint_path(&ctx, "decay"), &other).expect("write");
         let mut afresh = tank();
-        let (history, _) =
+        let (history, _, _) =
             free_run_resumable(&ctx, "decay", &mut afresh, t_end, sample).expect("afresh");
         assert_eq!(history.x, reference.x);
         let _ = std::fs::remove_dir_all(&dir);
