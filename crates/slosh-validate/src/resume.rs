@@ -6,8 +6,8 @@
 //! another run is set aside with a message. A finished run deletes its checkpoint, so a later
 //! call of the stage (after a change of the code, say) runs afresh.
 
-use crate::run::{step_until, Context};
-use crate::three_d::{com_x, ComHistory};
+use crate::run::Context;
+use crate::three_d::{ComHistory, FreeRun};
 use anyhow::Result;
 use serde::{Deserialize, Serialize};
 use slosh_core::{SimState, Simulation};
@@ -33,14 +33,6 @@ struct FreeRunCheckpoint<const D: usize> {
     wall_time_s: f64,
 }
 
-/// Where the run is: the record so far and the next sample.
-struct Progress {
-    history: ComHistory,
-    next_sample: f64,
-    particle_steps: f64,
-    wall_time_s: f64,
-}
-
 fn checkpoint_path(ctx: &Context, stem: &str) -> PathBuf {
     ctx.out.join("checkpoint").join(format!("{stem}.ckpt"))
 }
@@ -53,35 +45,6 @@ fn run_key<const D: usize>(stem: &str, sim: &Simulation<D>, sample: f64) -> Stri
         sim.fluid().position.len(),
         sim.walls().position.len(),
         sim.params()
-    )
-}
-
-/// Steps `sim` without excitation to `t_end`, sampling the centre of mass at
-/// `progress.next_sample` and every `sample` s after; `at_sample` is called after each
-/// sample with the simulation and the progress.
-fn advance<const D: usize>(
-    sim: &mut Simulation<D>,
-    progress: &mut Progress,
-    t_end: f64,
-    sample: f64,
-    mut at_sample: impl FnMut(&Simulation<D>, &Progress),
-) -> Result<()> {
-    let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
-    step_until(
-        sim,
-        |_| [0.0; 3],
-        t_end,
-        "stopped",
-        |sim| {
-            progress.particle_steps += n_all;
-            if sim.time() >= progress.next_sample {
-                progress.next_sample += sample;
-                progress.history.t.push(sim.time());
-                progress.history.x.push(com_x(sim));
-                at_sample(sim, progress);
-            }
-            Ok(())
-        },
     )
 }
 
@@ -99,25 +62,19 @@ pub(crate) fn free_run_resumable<const D: usize>(
 ) -> Result<(ComHistory, f64, f64)> {
     let path = checkpoint_path(ctx, stem);
     let key = run_key(stem, sim, sample);
-    let mut progress = Progress {
-        history: ComHistory {
-            t: vec![sim.time()],
-            x: vec![com_x(sim)],
-        },
-        next_sample: sim.time() + sample,
-        particle_steps: 0.0,
-        wall_time_s: 0.0,
-    };
+    let mut run = FreeRun::start(sim, sim.time() + sample);
+    // Wall time of the run before this call (s).
+    let mut wall_before = 0.0;
     if ctx.checkpoint_every.is_some() && path.exists() {
         match slosh_io::read_checkpoint::<FreeRunCheckpoint<D>>(&path) {
             Ok(c) if c.key == key => {
                 sim.restore(c.sim)?;
-                progress = Progress {
+                run = FreeRun {
                     history: ComHistory { t: c.t, x: c.x },
                     next_sample: c.next_sample,
                     particle_steps: c.particle_steps,
-                    wall_time_s: c.wall_time_s,
                 };
+                wall_before = c.wall_time_s;
                 ctx.say(&format!(
                     "continuing from {} at t = {:.3} s ({:.0} s of wall time before)",
                     path.display(),
@@ -134,8 +91,7 @@ pub(crate) fn free_run_resumable<const D: usize>(
     }
     let started = Instant::now();
     let mut last_write = Instant::now();
-    let wall_before = progress.wall_time_s;
-    advance(sim, &mut progress, t_end, sample, |sim, p| {
+    run.advance(sim, t_end, sample, |sim, p| {
         let Some(every) = ctx.checkpoint_every else {
             return;
         };
@@ -162,7 +118,7 @@ pub(crate) fn free_run_resumable<const D: usize>(
             Err(e) => ctx.say(&format!("no checkpoint written: {e}")),
         }
     })?;
-    progress.wall_time_s = wall_before + started.elapsed().as_secs_f64();
+    let wall_time_s = wall_before + started.elapsed().as_secs_f64();
     if path.exists() {
         if let Err(e) = std::fs::remove_file(&path) {
             ctx.say(&format!(
@@ -173,15 +129,10 @@ pub(crate) fn free_run_resumable<const D: usize>(
     }
     if wall_before > 0.0 {
         ctx.say(&format!(
-            "run complete: {:.0} s of wall time in all",
-            progress.wall_time_s
+            "run complete: {wall_time_s:.0} s of wall time in all"
         ));
     }
-    Ok((
-        progress.history,
-        progress.particle_steps,
-        progress.wall_time_s,
-    ))
+    Ok((run.history, run.particle_steps, wall_time_s))
 }
 
 #[cfg(test)]
@@ -224,16 +175,10 @@ mod tests {
         // The first half, as an interrupted run leaves it: its last checkpoint on disk.
         let mut first = tank();
         let key = run_key("decay", &first, sample);
-        let mut progress = Progress {
-            history: ComHistory {
-                t: vec![0.0],
-                x: vec![com_x(&first)],
-            },
-            next_sample: sample,
-            particle_steps: 0.0,
-            wall_time_s: 0.0,
-        };
-        advance(&mut first, &mut progress, t_mid, sample, |_, _| {}).expect("first half");
+        let mut progress = FreeRun::start(&first, sample);
+        progress
+            .advance(&mut first, t_mid, sample, |_, _| {})
+            .expect("first half");
         let checkpoint = FreeRunCheckpoint {
             key,
             sim: first.state(),

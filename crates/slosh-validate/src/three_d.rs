@@ -158,30 +158,63 @@ pub(crate) fn free_run_observed<const D: usize>(
     sample: f64,
     mut observe: impl FnMut(&Simulation<D>),
 ) -> Result<(ComHistory, f64)> {
-    let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
-    let mut h = ComHistory {
-        t: vec![sim.time()],
-        x: vec![com_x(sim)],
-    };
-    let mut steps = 0.0;
-    let mut next = sample;
-    step_until(
-        sim,
-        |_| [0.0; 3],
-        t_end,
-        "stopped",
-        |sim| {
-            steps += n_all;
-            if sim.time() >= next {
-                next += sample;
-                h.t.push(sim.time());
-                h.x.push(com_x(sim));
-                observe(sim);
-            }
-            Ok(())
-        },
-    )?;
-    Ok((h, steps))
+    let mut run = FreeRun::start(sim, sample);
+    run.advance(sim, t_end, sample, |sim, _| observe(sim))?;
+    Ok((run.history, run.particle_steps))
+}
+
+/// A free run as it goes: the centre-of-mass record so far, the time of its next sample and
+/// the particle-steps taken.
+pub(crate) struct FreeRun {
+    /// Centre of mass sampled so far.
+    pub history: ComHistory,
+    /// Time of the next sample (s).
+    pub next_sample: f64,
+    /// Particle-steps taken so far.
+    pub particle_steps: f64,
+}
+
+impl FreeRun {
+    /// A run whose record starts with `sim` as it is, next sampled at `first_sample` (s).
+    pub(crate) fn start<const D: usize>(sim: &Simulation<D>, first_sample: f64) -> Self {
+        FreeRun {
+            history: ComHistory {
+                t: vec![sim.time()],
+                x: vec![com_x(sim)],
+            },
+            next_sample: first_sample,
+            particle_steps: 0.0,
+        }
+    }
+
+    /// Steps `sim` without excitation to `t_end`, sampling the centre of mass at
+    /// `next_sample` and every `sample` s after; `at_sample` is called after each sample
+    /// with the simulation and the run.
+    pub(crate) fn advance<const D: usize>(
+        &mut self,
+        sim: &mut Simulation<D>,
+        t_end: f64,
+        sample: f64,
+        mut at_sample: impl FnMut(&Simulation<D>, &FreeRun),
+    ) -> Result<()> {
+        let n_all = (sim.fluid().position.len() + sim.walls().position.len()) as f64;
+        step_until(
+            sim,
+            |_| [0.0; 3],
+            t_end,
+            "stopped",
+            |sim| {
+                self.particle_steps += n_all;
+                if sim.time() >= self.next_sample {
+                    self.next_sample += sample;
+                    self.history.t.push(sim.time());
+                    self.history.x.push(com_x(sim));
+                    at_sample(sim, self);
+                }
+                Ok(())
+            },
+        )
+    }
 }
 
 /// First-mode period of cylinders of H/R = 1 and 0.5 (modern scheme, first-mode start).
