@@ -74,6 +74,19 @@ enum Start {
     SineAccelerationFromRest,
 }
 
+impl Start {
+    /// The tank's acceleration (m/s²) at time `t` (s) after the start, for a sway of
+    /// amplitude `amplitude` (m) at `omega` (rad/s); the liquid feels its negative.
+    fn tank_acceleration(self, amplitude: f64, omega: f64, t: f64) -> f64 {
+        let peak = amplitude * omega * omega;
+        match self {
+            Start::CosineFromRest => -peak * (omega * t).cos(),
+            Start::SineImpulsive => -peak * (omega * t).sin(),
+            Start::SineAccelerationFromRest => peak * (omega * t).sin(),
+        }
+    }
+}
+
 /// One experiment.
 struct Experiment {
     /// Short label.
@@ -229,11 +242,7 @@ fn simulate(
     ));
     let (a, w) = (e.amplitude, e.omega);
     // Tank acceleration (m/s²) at experiment time te ≥ 0; the liquid feels its negative.
-    let tank_accel = move |te: f64| match e.start {
-        Start::CosineFromRest => -a * w * w * (w * te).cos(),
-        Start::SineImpulsive => -a * w * w * (w * te).sin(),
-        Start::SineAccelerationFromRest => a * w * w * (w * te).sin(),
-    };
+    let tank_accel = move |te: f64| e.start.tank_acceleration(a, w, te);
     let start = std::time::Instant::now();
     let gauge = lo.x + e.gauge_x;
     let sample = (2.0 * std::f64::consts::PI / w) / 200.0;
@@ -371,13 +380,7 @@ fn linear_reference(e: &Experiment, t: &[f64]) -> Vec<f64> {
     let (a, w) = (e.amplitude, e.omega);
     // The liquid feels f = −a_tank.
     let force: Vec<f64> = (0..=(t_end / dt).ceil() as usize + 1)
-        .map(|k| {
-            let phase = w * k as f64 * dt;
-            match e.start {
-                Start::SineAccelerationFromRest => -a * w * w * phase.sin(),
-                _ => a * w * w * phase.cos(),
-            }
-        })
+        .map(|k| -e.start.tank_acceleration(a, w, k as f64 * dt))
         .collect();
     let states = time_history_response(&tank, dt, &force, 20, 0.0);
     let eta: Vec<f64> = states
