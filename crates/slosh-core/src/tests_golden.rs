@@ -93,7 +93,7 @@ pub(crate) fn configurations() -> Vec<(&'static str, SphParams)> {
 
 /// 150 steps of a sloshing 2D box under a varying ground acceleration.
 fn run_2d(params: &SphParams) -> Vec<u64> {
-    let setup = box_tank_for::<2>(&params, [0.4, 0.4], 0.2, 0.02, 0.02);
+    let setup = box_tank_for::<2>(params, [0.4, 0.4], 0.2, 0.02, 0.02);
     let mut sim = Simulation::new(setup, params.clone()).unwrap();
     for _ in 0..150 {
         let t = sim.time();
@@ -105,7 +105,7 @@ fn run_2d(params: &SphParams) -> Vec<u64> {
 
 /// 50 steps of a 3D box under a varying ground acceleration.
 fn run_3d(params: &SphParams) -> Vec<u64> {
-    let setup = box_tank_for::<3>(&params, [0.2, 0.1, 0.2], 0.1, 0.01, 0.02);
+    let setup = box_tank_for::<3>(params, [0.2, 0.1, 0.2], 0.1, 0.01, 0.02);
     let mut sim = Simulation::new(setup, params.clone()).unwrap();
     for _ in 0..50 {
         let t = sim.time();

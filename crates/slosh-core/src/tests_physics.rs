@@ -231,7 +231,7 @@ fn results_do_not_depend_on_the_thread_count() {
             .build()
             .unwrap();
         pool.install(|| {
-            let setup = box_tank_for::<D>(&params, size, 0.5 * size[D - 1], 0.05, dx);
+            let setup = box_tank_for::<D>(params, size, 0.5 * size[D - 1], 0.05, dx);
             let mut sim = Simulation::new(setup, params.clone()).unwrap();
             let mut accel = Vector::<D>::zeros();
             for step in 0..40 {

@@ -464,9 +464,9 @@ impl<const D: usize> GpuStep<D> {
         let (cell, _) = self.relative(x);
         let mut index = 0u32;
         let mut stride = 1u32;
-        for k in 0..D {
-            index += cell[k] as u32 * stride;
-            stride *= c.dims[k];
+        for (&ck, &dim) in cell.iter().zip(&c.dims) {
+            index += ck as u32 * stride;
+            stride *= dim;
         }
         index
     }

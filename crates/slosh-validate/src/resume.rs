@@ -2,9 +2,9 @@
 //! state goes into `OUT/checkpoint/<stem>.ckpt` every `--checkpoint-every` of wall time, and
 //! the same stage run again with the same `--out` continues from it instead of starting over.
 //! The checkpoint holds the simulation's state ([`SimState`]), the centre-of-mass record so
-//! far and what identifies the run (stage, particle counts, every solver parameter); one of
-//! another run is set aside with a message. A finished run deletes its checkpoint, so a later
-//! call of the stage (after a change of the code, say) runs afresh.
+//! far and what identifies the run (stage, particle counts, every solver parameter, the slosh
+//! build that wrote it); one of another run or another build is set aside with a message, so
+//! that a record is never made of two builds' steps. A finished run deletes its checkpoint.
 
 use crate::run::Context;
 use crate::three_d::{ComHistory, FreeRun};
@@ -38,14 +38,34 @@ fn checkpoint_path(ctx: &Context, stem: &str) -> PathBuf {
 }
 
 /// What identifies a free run: resuming is allowed only into the same stage, tank, sampling
-/// and parameters.
+/// and parameters, by the same build of slosh.
 fn run_key<const D: usize>(stem: &str, sim: &Simulation<D>, sample: f64) -> String {
     format!(
-        "{stem}; {D}D; {} fluid + {} wall particles; sample every {sample:e} s; {:?}",
+        "{stem}; {D}D; {} fluid + {} wall particles; sample every {sample:e} s; {:?}; {}",
         sim.fluid().position.len(),
         sim.walls().position.len(),
-        sim.params()
+        sim.params(),
+        build_identity()
     )
+}
+
+/// The build of slosh that is running: its version and the size and modification time of its
+/// executable. A rebuild after a change of the code gives another identity (a copy of the
+/// executable may too, which costs only a fresh start); where the executable cannot be read,
+/// the version alone.
+fn build_identity() -> String {
+    let version = env!("CARGO_PKG_VERSION");
+    let exe = std::env::current_exe().and_then(std::fs::metadata);
+    match exe.and_then(|m| Ok((m.len(), m.modified()?))) {
+        Ok((len, modified)) => {
+            let since_epoch = modified
+                .duration_since(std::time::UNIX_EPOCH)
+                .map(|d| d.as_nanos())
+                .unwrap_or(0);
+            format!("slosh {version}, executable of {len} bytes modified at {since_epoch} ns")
+        }
+        Err(_) => format!("slosh {version}"),
+    }
 }
 
 /// [`crate::three_d::free_run`] for a run of hours: resumes from the stage's checkpoint in
@@ -83,7 +103,7 @@ pub(crate) fn free_run_resumable<const D: usize>(
                 ));
             }
             Ok(_) => ctx.say(&format!(
-                "{} is of another run (tank, resolution or parameters differ): starting afresh",
+                "{} is of another run (tank, resolution, parameters or slosh build differ): starting afresh",
                 path.display()
             )),
             Err(e) => ctx.say(&format!("{e}: starting afresh")),

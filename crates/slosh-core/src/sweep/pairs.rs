@@ -57,6 +57,8 @@ pub(crate) trait PairInteraction<'a, 'id, const D: usize>: Sync {
 }
 
 /// A fluid pair found by a search or a forward range: its pair factors computed on their own.
+// The pair's operands are passed one by one, as the inner loop holds them.
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn unbatched_pair<'a, 'id, const D: usize, P: PairInteraction<'a, 'id, D>, const HALF: bool>(
     p: &P,

@@ -109,6 +109,8 @@ pub(crate) trait MomentumContinuityPair<const D: usize>: Sync + Sized {
     /// `grad_w`, with the pair factors (∇W factor, 1/s, 1/ρ̄) of [`ForceSweep::pair_factors`]:
     /// the acceleration of i (m/s²; j gets its negative) and, with `continuity`, the density
     /// rates of i and of j (kg/(m³·s)).
+    // The pair's operands are passed one by one, as the inner loop holds them.
+    #[allow(clippy::too_many_arguments)]
     fn fluid(
         &self,
         base: &ForceSweep<'_, D>,
@@ -326,12 +328,10 @@ impl<
             R::CONTINUITY,
         );
         let volume_j = m * self.base.inv_rho[j];
-        if R::CONTINUITY {
-            if R::DIFFUSION {
-                let psi = self.diff_coeff * (self.rho_dyn(j) - o.rho_dyn) * f;
-                drho_i += psi * volume_j;
-                drho_j -= psi * o.volume;
-            }
+        if R::CONTINUITY && R::DIFFUSION {
+            let psi = self.diff_coeff * (self.rho_dyn(j) - o.rho_dyn) * f;
+            drho_i += psi * volume_j;
+            drho_j -= psi * o.volume;
         }
         let w = if SHIFT { c.kernel.value(r) } else { 0.0 };
         FluidPairTerm {
