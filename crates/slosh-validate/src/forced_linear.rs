@@ -1,8 +1,9 @@
 //! The forced linear response from rest, judged crest by crest: a horizontal harmonic ground
 //! motion above the first natural frequency, sized so that linear theory's largest early crest
-//! at the wall is 0.12 of the depth (where linear potential theory is accurate), in both
-//! presets; the first three half-cycle extremes of the wall elevation and of the base shear
-//! against the undamped linear closed form from rest (`slosh_theory::modal::sine_response`).
+//! at the wall is 0.12 of the depth, and the same at half the amplitude, in both presets; the
+//! first three crest-to-trough heights of the wall elevation (judged at 0.12 H) and the first
+//! three base-shear extremes (judged at 0.06 H, where linear theory holds the force to about
+//! 1 %) against the undamped linear closed form from rest (`slosh_theory::modal::sine_response`).
 //!
 //! Beside the two presets the modern preset is run with one part changed at a time (the wall
 //! pressure floor, the start, the kernel, the density, the walls, the integrator, the
@@ -44,6 +45,12 @@ const SETTLE: f64 = 0.5;
 const CREST_TOL: f64 = 0.05;
 /// Half cycles judged.
 const CRESTS: usize = 3;
+/// Amplitude scale of the base-shear judgement: half the ground amplitude, crests of 0.06 H.
+/// The horizontal force of a wave excited horizontally is odd in the wave height, so it
+/// leaves linear theory at third order, by (k a)² with k = π/L and a the crest (about 3.5 %
+/// at 0.12 H in this tank, 0.9 % at 0.06 H): at 0.12 H that alone would take most of the
+/// 5 % tolerance.
+const SHEAR_JUDGED_SCALE: f64 = 0.5;
 /// Running mean of the base shear (± s) before its extremes are read: the load points'
 /// pressure noise of the paper scheme is at the step scale.
 const SHEAR_MEAN_HALF: f64 = 0.025;
@@ -321,6 +328,47 @@ const FORCED_GAP: &str = "see the modern preset's variants below and docs/valida
 /// A variant of a preset: its name and the change it makes to the parameters.
 type Variant = (&'static str, fn(&mut SphParams));
 
+/// What a run of the stage is judged on.
+#[derive(Clone, Copy, PartialEq)]
+enum Judged {
+    /// Crest-to-trough heights at the left wall (the preset at the full amplitude).
+    Heights,
+    /// Base-shear extremes (the preset at [`SHEAR_JUDGED_SCALE`] of the amplitude).
+    BaseShear,
+    /// Nothing: a diagnostic variant, reported.
+    Reported,
+}
+
+/// One run of the stage: its label, parameters, settling time (s), amplitude scale and what
+/// it is judged on.
+struct StageRun {
+    label: String,
+    params: SphParams,
+    settle: f64,
+    scale: f64,
+    judged: Judged,
+}
+
+impl StageRun {
+    fn new(label: &str, params: SphParams, settle: f64, scale: f64, judged: Judged) -> Self {
+        StageRun {
+            label: label.into(),
+            params,
+            settle,
+            scale,
+            judged,
+        }
+    }
+}
+
+/// The third-order departure of the base shear from linear theory, (k a)², for the crest
+/// a = `scale` × 0.12 H of the first mode k = π/L: its relative size.
+fn third_order_size(scale: f64) -> f64 {
+    let k = std::f64::consts::PI / WIDTH;
+    let a = scale * CREST_OVER_DEPTH * DEPTH;
+    (k * a).powi(2)
+}
+
 /// The stage: both presets judged, the modern preset's variants reported.
 pub fn forced_from_rest(ctx: &Context) -> GroupResult {
     let mut g = GroupResult::default();
@@ -331,14 +379,34 @@ pub fn forced_from_rest(ctx: &Context) -> GroupResult {
         f(&mut p);
         p
     };
-    let mut runs: Vec<(String, SphParams, f64, f64, bool)> = vec![
-        ("modern scheme".into(), modern.clone(), SETTLE, 1.0, true),
-        (
-            "paper scheme".into(),
+    let mut runs = vec![
+        StageRun::new(
+            "modern scheme",
+            modern.clone(),
+            SETTLE,
+            1.0,
+            Judged::Heights,
+        ),
+        StageRun::new(
+            "paper scheme",
             Scheme::paper().params,
             SETTLE,
             1.0,
-            true,
+            Judged::Heights,
+        ),
+        StageRun::new(
+            "modern scheme, half the amplitude (crest 0.06 H)",
+            modern.clone(),
+            SETTLE,
+            SHEAR_JUDGED_SCALE,
+            Judged::BaseShear,
+        ),
+        StageRun::new(
+            "paper scheme, half the amplitude (crest 0.06 H)",
+            Scheme::paper().params,
+            SETTLE,
+            SHEAR_JUDGED_SCALE,
+            Judged::BaseShear,
         ),
     ];
     if !ctx.quick {
@@ -381,28 +449,20 @@ pub fn forced_from_rest(ctx: &Context) -> GroupResult {
             }),
         ];
         for (label, f) in variants {
-            runs.push((label.into(), variant(f), SETTLE, 1.0, false));
+            runs.push(StageRun::new(
+                label,
+                variant(f),
+                SETTLE,
+                1.0,
+                Judged::Reported,
+            ));
         }
-        runs.push((
-            "modern, settled 2 s".into(),
+        runs.push(StageRun::new(
+            "modern, settled 2 s",
             modern.clone(),
             2.0,
             1.0,
-            false,
-        ));
-        runs.push((
-            "modern, half the amplitude (crest 0.06 H)".into(),
-            modern.clone(),
-            SETTLE,
-            0.5,
-            false,
-        ));
-        runs.push((
-            "paper, half the amplitude (crest 0.06 H)".into(),
-            Scheme::paper().params,
-            SETTLE,
-            0.5,
-            false,
+            Judged::Reported,
         ));
     }
     let mut curves = Vec::new();
@@ -412,7 +472,14 @@ pub fn forced_from_rest(ctx: &Context) -> GroupResult {
             .collect::<Vec<_>>()
             .join(", ")
     };
-    for (label, params, settle, scale, judged) in runs {
+    for StageRun {
+        label,
+        params,
+        settle,
+        scale,
+        judged,
+    } in runs
+    {
         let r = match forced_run(ctx, &case, &label, params, settle, scale) {
             Ok(r) => r,
             Err(e) => {
@@ -421,28 +488,22 @@ pub fn forced_from_rest(ctx: &Context) -> GroupResult {
             }
         };
         g.particle_steps += r.particle_steps;
-        if judged {
+        let crest = scale * CREST_OVER_DEPTH;
+        let heights = height_ratios_of(&r.eta);
+        let shear = extreme_ratios_of(&r.shear);
+        if judged == Judged::Heights {
             g.checks.push(open_if_failed(
                 ratios_check(
                     &format!(
                         "{label}: first {CRESTS} crest-to-trough heights at the left wall, \
                          SPH / linear"
                     ),
-                    &height_ratios_of(&r.eta),
-                    "linear potential theory from rest gives the first-order wave at crests \
-                     of 0.12 H; the height between successive extremes is free of the \
-                     second-order crest–trough asymmetry (crests up, troughs up alike)",
-                ),
-                FORCED_GAP,
-            ));
-            g.checks.push(open_if_failed(
-                ratios_check(
+                    &heights,
                     &format!(
-                        "{label}: first {CRESTS} base-shear extremes (±{SHEAR_MEAN_HALF} s \
-                         mean), SPH / linear"
+                        "linear potential theory from rest gives the first-order wave at crests \
+                         of {crest:.2} H; the height between successive extremes is free of the \
+                         second-order crest–trough asymmetry (crests up, troughs up alike)"
                     ),
-                    &extreme_ratios_of(&r.shear),
-                    "the base shear integrates the wall pressures: the same linear theory",
                 ),
                 FORCED_GAP,
             ));
@@ -450,10 +511,53 @@ pub fn forced_from_rest(ctx: &Context) -> GroupResult {
             g.checks.push(info_row(
                 GROUP,
                 &format!("{label}: crest-to-trough heights at the left wall, SPH / linear"),
-                fmt(&height_ratios_of(&r.eta)),
+                fmt(&heights),
                 "1".into(),
-                format!("base shear {}", fmt(&extreme_ratios_of(&r.shear))),
-                "diagnostic: one part of the modern preset changed",
+                format!("crests of {crest:.2} H"),
+                if judged == Judged::BaseShear {
+                    "reported: the heights are judged at twice this amplitude, where the \
+                     first extreme is not within a spacing of the still level"
+                } else {
+                    "diagnostic: one part of the modern preset changed"
+                },
+            ));
+        }
+        if judged == Judged::BaseShear {
+            g.checks.push(open_if_failed(
+                ratios_check(
+                    &format!(
+                        "{label}: first {CRESTS} base-shear extremes (±{SHEAR_MEAN_HALF} s \
+                         mean), SPH / linear"
+                    ),
+                    &shear,
+                    &format!(
+                        "the base shear integrates the wall pressures: the same linear theory, \
+                         which the force leaves at third order in the wave height, here by \
+                         (k a)² = {:.1} %",
+                        100.0 * third_order_size(scale)
+                    ),
+                ),
+                FORCED_GAP,
+            ));
+        } else {
+            g.checks.push(info_row(
+                GROUP,
+                &format!(
+                    "{label}: first {CRESTS} base-shear extremes (±{SHEAR_MEAN_HALF} s mean), \
+                     SPH / linear"
+                ),
+                fmt(&shear),
+                "1".into(),
+                format!(
+                    "third-order departure of the force from linear theory (k a)² = {:.1} %",
+                    100.0 * third_order_size(scale)
+                ),
+                if judged == Judged::Heights {
+                    "reported: judged at half the amplitude, where linear theory holds the \
+                     force to about 1 %"
+                } else {
+                    "diagnostic: one part of the modern preset changed"
+                },
             ));
         }
         g.checks.push(info_row(
@@ -509,7 +613,8 @@ pub fn forced_from_rest(ctx: &Context) -> GroupResult {
     g.notes.push(format!(
         "Open tank {WIDTH} × {DEPTH} m, dx = {DX} m, Ω = {FREQUENCY_RATIO} ω₁ = {:.3} rad/s, \
          ground amplitude A = {:.4} m (linear theory's largest of the first {CRESTS} wall \
-         extremes = {CREST_OVER_DEPTH} H), {SETTLE} s at rest first; {MODES} modes in the \
+         extremes = {CREST_OVER_DEPTH} H; the heights are judged there, the base shear at half \
+         that amplitude), {SETTLE} s at rest first; {MODES} modes in the \
          theory, which is evaluated at the gauge's own distance from the wall. Ratios are the \
          SPH extreme of the same sign in each half cycle of theory (±¼ half cycle) over \
          theory's.",
