@@ -39,8 +39,8 @@ pub fn write_report(report: &ValidationReport, path: &Path) -> Result<()> {
     let _ =
         writeln!(
         md,
-        "Command: `slosh validate{} --out {}` · scheme: the paper's (`SphParams::default()`) · \
-         {} checks: {passed} PASS, {failed} FAIL, {} INFO · wall time {:.0} s · slosh {}\n",
+        "Command: `slosh validate{} --out {}` · scheme: the paper's, unless a group's rows or \
+         notes name another preset · {} checks: {passed} PASS, {failed} FAIL, {} INFO · wall time {:.0} s · slosh {}\n",
         if report.quick { " --quick" } else { "" },
         path.parent().map(|p| p.display().to_string()).unwrap_or_default(),
         n,
