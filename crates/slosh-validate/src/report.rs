@@ -36,13 +36,15 @@ pub fn write_report(report: &ValidationReport, path: &Path) -> Result<()> {
         .filter(|c| c.verdict == Verdict::Pass)
         .count();
     let _ = writeln!(md, "# slosh validation report\n");
-    let _ =
-        writeln!(
+    let _ = writeln!(
         md,
         "Command: `slosh validate{} --out {}` · scheme: the paper's, unless a group's rows or \
-         notes name another preset · {} checks: {passed} PASS, {failed} FAIL, {} INFO · wall time {:.0} s · slosh {}\n",
+         notes name another preset · {} checks: {passed} PASS, {failed} FAIL, {} INFO · \
+         wall time {:.0} s · slosh {}\n",
         if report.quick { " --quick" } else { "" },
-        path.parent().map(|p| p.display().to_string()).unwrap_or_default(),
+        path.parent()
+            .map(|p| p.display().to_string())
+            .unwrap_or_default(),
         n,
         n - passed - failed,
         report.wall_time_s,
