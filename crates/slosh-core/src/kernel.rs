@@ -120,6 +120,25 @@ impl Kernel {
         }
     }
 
+    /// W at the distances √r2[k], into w[k] (the first r2.len() entries): [`Self::value`] of
+    /// each, bit for bit, in one branch-free loop per kernel kind that the compiler vectorises.
+    #[inline(always)]
+    pub fn values(&self, r2: &[f64], w: &mut [f64]) {
+        let n = r2.len();
+        let w = &mut w[..n];
+        macro_rules! values {
+            ($shape:ident) => {
+                for k in 0..n {
+                    w[k] = self.norm * $shape(r2[k].sqrt() * self.inv_h).0;
+                }
+            };
+        }
+        match self.kind {
+            KernelKind::CubicSpline => values!(cubic_spline_shape),
+            KernelKind::WendlandC2 => values!(wendland_c2_shape),
+        }
+    }
+
     /// (dW/dr)/r at the distances r[k] with 1/r[k] given, into f[k] (the first r.len()
     /// entries): [`Self::gradient_factor_with_inverse`] of each, bit for bit, in one
     /// branch-free loop per kernel kind that the compiler vectorises.
@@ -231,7 +250,7 @@ mod tests {
 
     /// The batched, vectorised factors are the scalar ones bit for bit (the force sweeps use
     /// either, by whether a particle's neighbour list overflowed, and results must not depend
-    /// on it), over the whole support, beyond it, and at r = 0.
+    /// on it; the wall extrapolation the scalar values before), over the whole support, beyond it, and at r = 0.
     #[test]
     fn batched_gradient_factors_equal_the_scalar_ones() {
         for kind in [KernelKind::CubicSpline, KernelKind::WendlandC2] {
@@ -257,6 +276,12 @@ mod tests {
                 for i in 0..r.len() {
                     let (w_scalar, f_scalar) = k.value_and_gradient_factor(r2[i].sqrt());
                     assert_eq!(f[i].to_bits(), f_scalar.to_bits(), "{kind:?} {dim}D");
+                    assert_eq!(w[i].to_bits(), w_scalar.to_bits(), "{kind:?} {dim}D");
+                }
+                // W alone from r², as the wall-pressure extrapolation takes it.
+                k.values(&r2, &mut w);
+                for i in 0..r.len() {
+                    let w_scalar = k.value(r2[i].sqrt());
                     assert_eq!(w[i].to_bits(), w_scalar.to_bits(), "{kind:?} {dim}D");
                 }
             }

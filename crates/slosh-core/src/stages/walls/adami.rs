@@ -3,6 +3,7 @@
 //! of the strain rate.
 
 use super::commit_wall_state;
+use crate::kernel::Kernel;
 use crate::neighbours::NeighbourSearch;
 use crate::sim::*;
 use crate::terms::*;
@@ -24,39 +25,45 @@ pub(crate) fn adami_walls<const D: usize, S: NeighbourSearch<D>>(
     st: &mut StageBuffers<D>,
     body_force: Vector<D>,
 ) {
-    let kernel = c.kernel;
-    let pos = &fluid.position;
-    let vel = &fluid.velocity;
-    let rho = &fluid.density;
-    let p = &fluid.pressure;
     let wall_pos = &walls.position;
+    let sums_of = WallSums {
+        kernel: c.kernel,
+        pos: &fluid.position,
+        vel: &fluid.velocity,
+        rho: &fluid.density,
+        p: &fluid.pressure,
+        no_slip,
+    };
     let fill = |w_i: usize,
                 rho_out: &mut f64,
                 p_out: &mut f64,
                 nearest_out: &mut u32,
                 vel_out: Option<&mut Vector<D>>| {
         let xw = wall_pos[w_i];
-        let mut nearest = (f64::INFINITY, u32::MAX);
-        // Adami, Hu & Adams (2012) Eq. 27 (and Eq. 22 for the velocity).
-        let (mut sum_w, mut sum_pw) = (0.0, 0.0);
-        let mut sum_rx = Vector::<D>::zeros();
-        let mut sum_v = Vector::<D>::zeros();
+        let mut sums = WallExtrapolation::<D>::new();
+        // The candidates within the support, a batch at a time in the search's order: their
+        // kernel values are computed together (the sums are those of one pair at a time).
+        let mut batch_j = [0u32; BATCH];
+        let mut batch_r2 = [0.0f64; BATCH];
+        let mut batched = 0usize;
         search.for_each_fluid_candidate(&xw, |j| {
-            let d = xw - pos[j];
-            let r2 = d.norm_squared();
-            if r2 < c.support_sq {
-                let w = kernel.value(r2.sqrt());
-                sum_w += w;
-                sum_pw += p[j] * w;
-                sum_rx += d * (rho[j] * w);
-                if no_slip {
-                    sum_v += vel[j] * w;
-                }
-                if r2 < nearest.0 {
-                    nearest = (r2, j as u32);
-                }
+            let r2 = (xw - sums_of.pos[j]).norm_squared();
+            batch_j[batched] = j as u32;
+            batch_r2[batched] = r2;
+            batched += (r2 < c.support_sq) as usize;
+            if batched == BATCH {
+                sums_of.add(&xw, &mut sums, &batch_j, &batch_r2);
+                batched = 0;
             }
         });
+        sums_of.add(&xw, &mut sums, &batch_j[..batched], &batch_r2[..batched]);
+        let WallExtrapolation {
+            sum_w,
+            sum_pw,
+            sum_rx,
+            sum_v,
+            nearest,
+        } = sums;
         if sum_w > 1e-12 {
             let mut pw = (sum_pw + body_force.dot(&sum_rx)) / sum_w;
             if c.clamp_negative || c.wall_separation {
@@ -96,6 +103,71 @@ pub(crate) fn adami_walls<const D: usize, S: NeighbourSearch<D>>(
             .for_each(|(w_i, ((r, pw), nf))| fill(w_i, r, pw, nf, None));
     }
     commit_wall_state(walls, next_wall_density, &st.wall_pressure_next);
+}
+
+/// The running sums of one wall particle's extrapolation over its fluid neighbours (Adami,
+/// Hu & Adams 2012, Eq. 27 and, for no-slip walls, Eq. 22), and its nearest fluid particle.
+struct WallExtrapolation<const D: usize> {
+    /// Σ W_wj (1/m^D).
+    sum_w: f64,
+    /// Σ p_j W_wj (Pa/m^D).
+    sum_pw: f64,
+    /// Σ ρ_j x_wj W_wj (kg/m² per m^D; dotted with the body force in m/s², Pa per m^D).
+    sum_rx: Vector<D>,
+    /// Σ v_j W_wj (m/s per m^D).
+    sum_v: Vector<D>,
+    /// Squared distance (m²) and index of the nearest fluid particle.
+    nearest: (f64, u32),
+}
+
+impl<const D: usize> WallExtrapolation<D> {
+    fn new() -> Self {
+        WallExtrapolation {
+            sum_w: 0.0,
+            sum_pw: 0.0,
+            sum_rx: Vector::<D>::zeros(),
+            sum_v: Vector::<D>::zeros(),
+            nearest: (f64::INFINITY, u32::MAX),
+        }
+    }
+}
+
+/// The fluid arrays the wall extrapolation reads.
+struct WallSums<'a, const D: usize> {
+    kernel: Kernel,
+    pos: &'a [Vector<D>],
+    vel: &'a [Vector<D>],
+    rho: &'a [f64],
+    p: &'a [f64],
+    no_slip: bool,
+}
+
+impl<const D: usize> WallSums<'_, D> {
+    /// Adds the fluid particles `batch_j` at squared distances `batch_r2` (m², within the
+    /// support) from the wall particle at `xw` to its sums, in the order given.
+    #[inline(always)]
+    fn add(
+        &self,
+        xw: &Vector<D>,
+        sums: &mut WallExtrapolation<D>,
+        batch_j: &[u32],
+        batch_r2: &[f64],
+    ) {
+        let mut batch_w = [0.0f64; BATCH];
+        self.kernel.values(batch_r2, &mut batch_w);
+        for ((&j, &r2), &w) in batch_j.iter().zip(batch_r2).zip(&batch_w) {
+            let j = j as usize;
+            sums.sum_w += w;
+            sums.sum_pw += self.p[j] * w;
+            sums.sum_rx += (xw - self.pos[j]) * (self.rho[j] * w);
+            if self.no_slip {
+                sums.sum_v += self.vel[j] * w;
+            }
+            if r2 < sums.nearest.0 {
+                sums.nearest = (r2, j as u32);
+            }
+        }
+    }
 }
 
 /// The no-slip walls' share of the strain rate V (Eq. 4–5): the mirrored wall velocity
