@@ -436,3 +436,23 @@ fn validate_refuses_a_bad_checkpoint_interval() {
     assert!(stderr.contains("10m"), "{stderr}");
     assert!(!out.join("report.md").exists());
 }
+
+/// `slosh validate --only` with text that names no stage stops with the list of stages
+/// instead of writing an empty report.
+#[test]
+fn validate_refuses_an_only_that_matches_no_stage() {
+    let dir = temp("validate_only");
+    let out = dir.join("validate");
+    let (ok, stderr) = run(&[
+        "validate",
+        "--quick",
+        "--only",
+        "no such stage",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(stderr.contains("matches no stage"), "{stderr}");
+    assert!(stderr.contains("dam break: front"), "{stderr}");
+    assert!(!out.join("report.md").exists());
+}

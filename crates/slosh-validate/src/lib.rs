@@ -288,6 +288,8 @@ impl GroupResult {
 pub struct ValidationReport {
     /// Whether the quick subset was run.
     pub quick: bool,
+    /// The stage filter of the run (`--only`), if any.
+    pub only: Option<String>,
     /// Groups in report order: (title, result).
     pub groups: Vec<(String, GroupResult)>,
     /// Wall-clock time of the whole suite (s).
@@ -535,6 +537,21 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
         ));
         all
     };
+    let wanted = |name: &str| {
+        opts.only
+            .as_ref()
+            .is_none_or(|o| name.to_lowercase().contains(&o.to_lowercase()))
+    };
+    if let Some(only) = &opts.only {
+        if !stages.iter().any(|(name, _)| wanted(name)) {
+            let names: Vec<&str> = stages.iter().map(|(name, _)| *name).collect();
+            anyhow::bail!(
+                "--only \"{only}\" matches no stage of the {} suite; the stages are:\n  {}",
+                if opts.quick { "quick" } else { "full" },
+                names.join("\n  ")
+            );
+        }
+    }
     let mut groups: Vec<(String, GroupResult)> = Vec::new();
     let stage = |name: &str| {
         if let Some(progress) = opts.progress {
@@ -545,11 +562,7 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
         }
     };
     for (name, run_stage) in &stages {
-        let wanted = opts
-            .only
-            .as_ref()
-            .is_none_or(|o| name.to_lowercase().contains(&o.to_lowercase()));
-        if wanted {
+        if wanted(name) {
             stage(name);
             groups.extend(run_stage(&ctx));
         }
@@ -559,6 +572,7 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
     let report_path = opts.out.join("report.md");
     let report = ValidationReport {
         quick: opts.quick,
+        only: opts.only.clone(),
         groups,
         wall_time_s,
         report_path: report_path.clone(),

@@ -38,10 +38,15 @@ pub fn write_report(report: &ValidationReport, path: &Path) -> Result<()> {
     let _ = writeln!(md, "# slosh validation report\n");
     let _ = writeln!(
         md,
-        "Command: `slosh validate{} --out {}` · scheme: the paper's, unless a group's rows or \
+        "Command: `slosh validate{}{} --out {}` · scheme: the paper's, unless a group's rows or \
          notes name another preset · {} checks: {passed} PASS, {failed} FAIL, {} INFO · \
          wall time {:.0} s · slosh {}\n",
         if report.quick { " --quick" } else { "" },
+        report
+            .only
+            .as_ref()
+            .map(|o| format!(" --only \"{o}\""))
+            .unwrap_or_default(),
         path.parent()
             .map(|p| p.display().to_string())
             .unwrap_or_default(),
