@@ -671,6 +671,8 @@ pub(crate) fn free_decay_with(
     let periods = if ctx.quick { 6.0 } else { PERIODS };
     let pct = |z: f64| format!("{:.3} %", 100.0 * z);
     let mut notes = Vec::new();
+    // ζ (%) against particles per depth, one curve per tank.
+    let mut convergence: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
     for &(w, d) in tanks {
         let mut curves: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
         let (mut ns, mut zetas, mut perr) = (Vec::new(), Vec::new(), Vec::new());
@@ -756,6 +758,11 @@ pub(crate) fn free_decay_with(
                 run.mode_eta.iter().map(|e| e / a0).collect(),
             ));
         }
+        convergence.push((
+            format!("tank {w} × {d} m"),
+            ns.clone(),
+            zetas.iter().map(|z| 100.0 * z).collect(),
+        ));
         if ns.len() >= 2 {
             let pz = convergence_order(&ns, &zetas);
             let pt = convergence_order(&ns, &perr);
@@ -788,6 +795,32 @@ pub(crate) fn free_decay_with(
                 .map(|(l, t, e)| Series::line(l, t, e))
                 .collect::<Vec<_>>(),
             format!("free decay of the first mode, {label}, tank {w} × {d} m, each level"),
+        );
+    }
+    if convergence.iter().any(|(_, ns, _)| ns.len() >= 2) {
+        let (target_n, target_zeta) = (
+            [20.0, 40.0],
+            [100.0 * ZETA_TARGET_20, 100.0 * ZETA_TARGET_40],
+        );
+        let mut series: Vec<Series> = convergence
+            .iter()
+            .map(|(l, ns, z)| Series::line(l, ns, z))
+            .collect();
+        series.push(Series::points(
+            "targets (ζ at most)",
+            &target_n,
+            &target_zeta,
+        ));
+        g.add_line_plot(
+            &ctx.out,
+            &format!("damping_convergence_{}", label.replace(' ', "_")),
+            &PlotSpec::new(
+                format!("Numerical damping of the first mode against resolution, {label}"),
+                "particles per depth (-)",
+                "damping ratio ζ (% of critical)",
+            ),
+            &series,
+            format!("ζ against particles per depth, {label}, each tank, with the targets"),
         );
     }
     g.notes.extend(notes);
