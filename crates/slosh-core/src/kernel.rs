@@ -248,9 +248,10 @@ mod tests {
         }
     }
 
-    /// The batched, vectorised factors are the scalar ones bit for bit (the force sweeps use
-    /// either, by whether a particle's neighbour list overflowed, and results must not depend
-    /// on it; the wall extrapolation the scalar values before), over the whole support, beyond it, and at r = 0.
+    /// The batched, vectorised factors and values are the scalar ones bit for bit (the force
+    /// sweeps use either, by whether a particle's neighbour list overflowed, and results must
+    /// not depend on it; the wall extrapolation took the scalar values before it took the
+    /// batched ones), over the whole support, beyond it, and at r = 0.
     #[test]
     fn batched_gradient_factors_equal_the_scalar_ones() {
         for kind in [KernelKind::CubicSpline, KernelKind::WendlandC2] {
