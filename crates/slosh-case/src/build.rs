@@ -3,7 +3,8 @@
 use anyhow::{bail, Context, Result};
 use slosh_core::ParticleSetup;
 use slosh_geometry::{
-    BoxTank, CylinderTank, InitialSurface, Layout, MeshTank, RectTank2, Roof, SphereTank,
+    BoxTank, CylinderLattice, CylinderTank, InitialSurface, Layout, MeshTank, RectTank2, Roof,
+    SphereTank,
 };
 use slosh_script::{ReadSandbox, TankSpec};
 
@@ -193,6 +194,7 @@ pub fn build_3d(
             tilt,
             tilt_shape,
             solids,
+            lattice,
         } => {
             let mut roof = Roof::from_name(roof, *roof_rise).with_context(|| {
                 format!(
@@ -208,7 +210,8 @@ pub fn build_3d(
             let mut tank = CylinderTank::new(*radius, *height, *depth, roof)
                 .with_initial_tilt(*tilt)
                 .with_initial_shape(initial_surface(tilt_shape))
-                .with_layers(layers);
+                .with_layers(layers)
+                .with_lattice(CylinderLattice::from_name(lattice).unwrap_or_default());
             tank.solids = solids.clone();
             Ok(tank.build(dx)?)
         }

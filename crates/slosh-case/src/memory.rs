@@ -157,6 +157,7 @@ mod tests {
             tilt: 0.0,
             tilt_shape: "plane".into(),
             solids: Vec::new(),
+            lattice: "cubic".into(),
         }
     }
 

@@ -456,3 +456,43 @@ fn validate_refuses_an_only_that_matches_no_stage() {
     assert!(stderr.contains("dam break: front"), "{stderr}");
     assert!(!out.join("report.md").exists());
 }
+
+/// A cylinder's `lattice` other than "cubic" or "polar" is refused at the `tank` call; the
+/// polar lattice with an internal solid is refused with the reason; a box has no `lattice`.
+#[test]
+fn bad_cylinder_lattice_is_refused() {
+    let dir = temp("bad_lattice");
+    let case = write_case(
+        &dir,
+        "let r = 0.5;\ntank(#{ shape: \"cylinder\", radius: r, height: 0.6, depth: 0.4,\n  lattice: \"hexagonal\" });\n",
+    );
+    let (ok, err) = run(&["run", case.to_str().unwrap(), "--quiet"]);
+    assert!(!ok);
+    assert!(err.contains("case.rhai:2:1:"), "{err}");
+    assert!(
+        err.contains("\"hexagonal\"") && err.contains("\"polar\""),
+        "{err}"
+    );
+    let case = write_case(
+        &dir,
+        "tank(#{ shape: \"cylinder\", radius: 0.5, height: 0.6, depth: 0.4, lattice: \"polar\",\n  \
+         solids: [#{ name: \"column\", shape: \"column\", centre: [0.0, 0.0], radius: 0.1, bottom: 0.0, top: 0.6 }] });\n\
+         numerics(#{ dx: 0.05 });\nrun(#{ duration: 0.01 });\n",
+    );
+    let (ok, err) = run(&["run", case.to_str().unwrap(), "--quiet"]);
+    assert!(!ok);
+    assert!(
+        err.contains("polar lattice") && err.contains("internal solids"),
+        "{err}"
+    );
+    let case = write_case(
+        &dir,
+        "tank(#{ shape: \"box\", length: 1.0, breadth: 0.2, height: 0.6, depth: 0.4, lattice: \"polar\" });\n",
+    );
+    let (ok, err) = run(&["run", case.to_str().unwrap(), "--quiet"]);
+    assert!(!ok);
+    assert!(
+        err.contains("lattice") && err.contains("unknown key"),
+        "{err}"
+    );
+}

@@ -45,6 +45,11 @@
 //!   goes to the nearest innermost-layer particle of the same part, and each part's areas are
 //!   scaled to sum exactly to its area (analytic for the built-in shapes, the wetted mesh area
 //!   otherwise). All other particles get 0.
+//!
+//! A cylinder can instead stand on the polar lattice ([`CylinderLattice::Polar`]): the liquid
+//! on rings about the axis and the shell's wall layers on rings at R + (k − ½)dx, so the liquid
+//! meets a smooth shell rather than the cubic lattice's staircase; floor and roof walls stay on
+//! the cubic lattice (the corners below the floor and above the shell top keep theirs).
 
 #![warn(missing_docs)]
 
@@ -92,7 +97,10 @@ pub use section2::{
     SectionShape, SectionTank2,
 };
 pub use solid2::{Solid2, Solid2Shape};
-pub use tank3::{BoxTank, CylinderTank, InternalSolid, Roof, SolidShape, SphereTank, TankRegion3};
+pub use tank3::{
+    BoxTank, CylinderLattice, CylinderTank, InternalSolid, Roof, SolidShape, SphereTank,
+    TankRegion3,
+};
 pub use tank_mesh::{MeshTank, TankMesh};
 
 /// Writes the closed interior surface of a cylinder of `radius` and `shell_height` (m) with

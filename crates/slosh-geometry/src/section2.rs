@@ -361,7 +361,7 @@ impl SectionTank2 {
     }
 
     /// Names the sides `first..=last` of a polygon outline as part `name` (see
-    /// [`SectionTank2::named_sides`]).
+    /// [`SectionTank2::named_parts`]).
     pub fn with_named_sides(mut self, name: &str, first: usize, last: usize) -> Self {
         self.named_parts
             .push((name.to_string(), PartRange::Sides([first, last])));

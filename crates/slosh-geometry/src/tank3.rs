@@ -353,6 +353,35 @@ pub struct CylinderTank {
     pub initial_shape: crate::InitialSurface,
     /// Internal solids (columns, baffle rings).
     pub solids: Vec<InternalSolid>,
+    /// How the liquid and the shell's wall particles are laid out (the cubic lattice by
+    /// default).
+    pub lattice: CylinderLattice,
+}
+
+/// How the particles of a cylinder are laid out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum CylinderLattice {
+    /// The cubic lattice ((i+½)dx, (j+½)dx, (k+½)dx) for liquid and walls alike: beside the
+    /// shell the liquid and the wall meet in a staircase of steps up to dx deep.
+    #[default]
+    Cubic,
+    /// Rings about the axis, fitted to the shell: the liquid on N = round(R/dx) rings at
+    /// radii (k − ½)R/N, the shell's wall layer k on the ring R + (k − ½)dx, points ≈ dx
+    /// apart along each ring (each liquid point stands for dx³ to the rounding of the ring's
+    /// point count), one ring per lattice row (j + ½)dx; the floor and roof walls keep the
+    /// cubic lattice. No staircase at the shell.
+    Polar,
+}
+
+impl CylinderLattice {
+    /// Parses a script's `lattice`: `"cubic"` or `"polar"`.
+    pub fn from_name(name: &str) -> Option<CylinderLattice> {
+        match name.trim().to_ascii_lowercase().as_str() {
+            "cubic" => Some(CylinderLattice::Cubic),
+            "polar" => Some(CylinderLattice::Polar),
+            _ => None,
+        }
+    }
 }
 
 impl CylinderTank {
@@ -368,7 +397,14 @@ impl CylinderTank {
             initial_tilt: 0.0,
             initial_shape: crate::InitialSurface::Plane,
             solids: Vec::new(),
+            lattice: CylinderLattice::Cubic,
         }
+    }
+
+    /// Sets the layout of the liquid and shell particles.
+    pub fn with_lattice(mut self, lattice: CylinderLattice) -> Self {
+        self.lattice = lattice;
+        self
     }
 
     /// Sets the initial free-surface tilt (m, elevation at x = −R).
@@ -445,6 +481,22 @@ impl CylinderTank {
         check_positive("particle spacing dx", dx)?;
         check_finite("initial tilt", self.initial_tilt)?;
         check_layers(self.layers)?;
+        if self.lattice == CylinderLattice::Polar {
+            if matches!(self.roof, Roof::Mesh(_)) {
+                return Err(GeometryError::InvalidShape(
+                    "the polar lattice fits rings to the analytic shell; a meshed tank keeps the \
+                     cubic lattice (use a flat, cone, dome or no roof, or lattice \"cubic\")"
+                        .into(),
+                ));
+            }
+            if !self.solids.is_empty() {
+                return Err(GeometryError::InvalidShape(
+                    "the polar lattice is for tanks without internal solids (their walls stand \
+                     on the cubic lattice); use lattice \"cubic\""
+                        .into(),
+                ));
+            }
+        }
         match &self.roof {
             Roof::Cone { apex_height } => check_positive("cone roof apex height", *apex_height)?,
             Roof::Dome { rise } => {
@@ -520,7 +572,108 @@ impl CylinderTank {
             region,
             extra_parts: Vec::new(),
         };
-        build_mesh_tank(&spec, dx)
+        let tilt_shape = spec.tilt_shape;
+        let mut setup = build_mesh_tank(&spec, dx)?;
+        if self.lattice == CylinderLattice::Polar {
+            self.fit_polar_lattice(&mut setup, tilt_shape, dx);
+        }
+        Ok(setup)
+    }
+
+    /// Lays the liquid and the shell's walls on rings about the axis
+    /// ([`CylinderLattice::Polar`]) in a tank built on the cubic lattice. Liquid: N =
+    /// round(R/dx) rings at radii r = (k − ½)R/N with round(2π r (R/N)/dx²) points (at least
+    /// one), each column of rows (j + ½)dx up to the fill surface, its rows rounded by error
+    /// diffusion along the rings as the cubic builder's columns are; shell: wall layer k on the
+    /// ring R + (k − ½)dx with round(2π r/dx) points, radial normals, the innermost layer
+    /// sharing the shell area 2πRH. Alternate rings are turned by half a spacing. The cubic
+    /// particles beside the shell (outside the radius, floor to shell top) are dropped; the
+    /// corners below the floor and above the shell top keep theirs.
+    fn fit_polar_lattice(&self, setup: &mut ParticleSetup<3>, tilt_shape: TiltShape, dx: f64) {
+        let (r, h) = (self.radius, self.shell_height);
+        let wall_part = 1u16;
+        let ring_points = |radius: f64, width: f64| {
+            ((2.0 * PI * radius * width / (dx * dx)).round() as usize).max(1)
+        };
+        let on_ring = |radius: f64, m: usize, points: usize, turned: bool| {
+            let turn = if turned { 0.5 } else { 0.0 };
+            let angle = 2.0 * PI * (m as f64 + turn) / points as f64;
+            let (sin, cos) = angle.sin_cos();
+            (radius * cos, radius * sin, cos, sin)
+        };
+
+        // Liquid: one column per ring point, its rows rounded by error diffusion along the
+        // rings (the residual carried from one column to the next keeps the volume).
+        setup.fluid_positions.clear();
+        let rings = (r / dx).round().max(1.0) as usize;
+        let width = r / rings as f64;
+        let mut owed = 0.0;
+        for k in 1..=rings {
+            let radius = (k as f64 - 0.5) * width;
+            let points = ring_points(radius, width);
+            for m in 0..points {
+                let (x, y, _, _) = on_ring(radius, m, points, k % 2 == 0);
+                let wanted =
+                    (setup.fill_level + self.initial_tilt * tilt_shape.at(x, y)) / dx + owed;
+                let rows = wanted.round().max(0.0);
+                owed = wanted - rows;
+                for j in 0..rows as usize {
+                    let p = Vector3::new(x, y, (j as f64 + 0.5) * dx);
+                    if setup.interior.contains(&p) {
+                        setup.fluid_positions.push(p);
+                    }
+                }
+            }
+        }
+
+        // Shell: drop the cubic wall particles beside it, then add the rings.
+        let beside_shell =
+            |p: &Vector3<f64>| p.z > 0.0 && p.z < h && (p.x * p.x + p.y * p.y).sqrt() > r;
+        let mut kept = 0;
+        for w in 0..setup.wall_positions.len() {
+            if beside_shell(&setup.wall_positions[w]) {
+                continue;
+            }
+            setup.wall_positions[kept] = setup.wall_positions[w];
+            setup.wall_part[kept] = setup.wall_part[w];
+            setup.wall_normal[kept] = setup.wall_normal[w];
+            setup.wall_layer[kept] = setup.wall_layer[w];
+            // The shell's area goes to the rings alone.
+            setup.wall_area[kept] = if setup.wall_part[w] == wall_part {
+                0.0
+            } else {
+                setup.wall_area[w]
+            };
+            kept += 1;
+        }
+        setup.wall_positions.truncate(kept);
+        setup.wall_part.truncate(kept);
+        setup.wall_normal.truncate(kept);
+        setup.wall_layer.truncate(kept);
+        setup.wall_area.truncate(kept);
+        let first_ring = setup.wall_positions.len();
+        let rows = (0..).map(|j| (j as f64 + 0.5) * dx).take_while(|z| *z < h);
+        for z in rows {
+            for layer in 1..=self.layers {
+                let radius = r + (layer as f64 - 0.5) * dx;
+                let points = ring_points(radius, dx);
+                for m in 0..points {
+                    let (x, y, cos, sin) = on_ring(radius, m, points, layer % 2 == 0);
+                    setup.wall_positions.push(Vector3::new(x, y, z));
+                    setup.wall_part.push(wall_part);
+                    setup.wall_normal.push(Vector3::new(cos, sin, 0.0));
+                    setup.wall_layer.push(layer);
+                    setup
+                        .wall_area
+                        .push(if layer == 1 { 1.0 / points as f64 } else { 0.0 });
+                }
+            }
+        }
+        let rings_area: f64 = setup.wall_area[first_ring..].iter().sum();
+        let shell_area = 2.0 * PI * r * h;
+        for a in &mut setup.wall_area[first_ring..] {
+            *a *= shell_area / rings_area;
+        }
     }
 }
 

@@ -207,6 +207,10 @@ pub enum TankSpec {
         /// Internal solids (columns, rings, blocks).
         #[serde(skip_serializing_if = "Vec::is_empty")]
         solids: Vec<InternalSolid>,
+        /// Layout of the liquid and shell particles: `"cubic"` (the lattice, default) or
+        /// `"polar"` (rings about the axis, fitted to the shell).
+        #[serde(skip_serializing_if = "is_cubic")]
+        lattice: String,
     },
     /// 3D rectangular box tank.
     Box {
@@ -632,6 +636,22 @@ impl Default for TankSpec {
             solids: Vec::new(),
             parts: Vec::new(),
         }
+    }
+}
+
+/// True for the default shell layout (left out of the written case).
+fn is_cubic(lattice: &str) -> bool {
+    lattice == "cubic"
+}
+
+/// Reads a cylinder's `lattice` ("cubic" by default, or "polar").
+fn cylinder_lattice(r: &mut MapReader) -> Result<String, String> {
+    let lattice = r.str_or("lattice", "cubic")?;
+    match lattice.as_str() {
+        "cubic" | "polar" => Ok(lattice),
+        other => Err(format!(
+            "tank: unknown lattice \"{other}\" for a cylinder (use \"cubic\" or \"polar\")"
+        )),
     }
 }
 
@@ -1097,6 +1117,7 @@ impl TankSpec {
                 tilt: r.f64_or("tilt", 0.0)?,
                 tilt_shape: tilt_shape(&mut r)?,
                 solids: read_solids_3d(&mut r)?,
+                lattice: cylinder_lattice(&mut r)?,
             },
             "box" => TankSpec::Box {
                 length: r.f64_or("length", 1.0)?,
@@ -1670,6 +1691,7 @@ mod tests {
             tilt: 0.0,
             tilt_shape: "plane".into(),
             solids: Vec::new(),
+            lattice: "cubic".into(),
         };
         assert_eq!(Resolution::PerRadius(24.0).spacing_for(&cylinder), Ok(0.5));
         assert_eq!(Resolution::PerDepth(26.0).spacing_for(&cylinder), Ok(0.5));

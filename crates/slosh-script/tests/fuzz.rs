@@ -87,6 +87,7 @@ const TANK_KEYS: &[&str] = &[
     "layout",
     "tilt",
     "tilt_shape",
+    "lattice",
     "radius",
     "roof_rise",
     "length",
