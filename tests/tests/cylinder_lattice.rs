@@ -10,7 +10,7 @@ use slosh_validation::{out_dir, period_from_crossings, run_script, series_column
 /// particles per depth (dx = 0.0625 m, modern scheme), started in its first mode, 2.6 periods.
 /// (a) The liquid's volume, particles × dx³, within 1 % of πR²H: each ring's point count is
 /// rounded to a whole number (≤ ½ point in ≥ 3), the columns' rows by error diffusion; the
-/// cubic lattice loses a row of half-cells along the curved wall (≈ 1.5 % at this size).
+/// cubic lattice's count, cut by the curved wall, is 3.6 % over at this size.
 /// (b) The period of the wall elevation within 3 % of potential theory, ω₁² = (g ξ₁/R)
 /// tanh(ξ₁H/R) (Ibrahim 2005, §1.3): the tolerance of the suite's 3D period checks, for the
 /// kernel's truncation at the free surface at this coarse resolution.
