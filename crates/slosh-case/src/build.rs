@@ -207,11 +207,14 @@ pub fn build_3d(
                 let resolved = sandbox.resolve(&rel).map_err(anyhow::Error::msg)?;
                 roof = Roof::Mesh(resolved);
             }
+            let lattice = CylinderLattice::from_name(lattice).with_context(|| {
+                format!("unknown lattice \"{lattice}\": use \"cubic\" or \"polar\"")
+            })?;
             let mut tank = CylinderTank::new(*radius, *height, *depth, roof)
                 .with_initial_tilt(*tilt)
                 .with_initial_shape(initial_surface(tilt_shape))
                 .with_layers(layers)
-                .with_lattice(CylinderLattice::from_name(lattice).unwrap_or_default());
+                .with_lattice(lattice);
             tank.solids = solids.clone();
             Ok(tank.build(dx)?)
         }
