@@ -639,7 +639,7 @@ impl Default for TankSpec {
     }
 }
 
-/// True for the default shell layout (left out of the written case).
+/// True for a cylinder's default lattice (left out of the written case).
 fn is_cubic(lattice: &str) -> bool {
     lattice == "cubic"
 }
