@@ -69,6 +69,40 @@ impl<'a> MapReader<'a> {
         }
     }
 
+    /// Reads `key` as one of `choices` (`default` when the key is absent): each choice is
+    /// the names it answers to (the first is the one an error lists) and what it stands
+    /// for. A name that is none of them stops with the names the key accepts.
+    pub(crate) fn choice_or<T: Clone>(
+        &mut self,
+        key: &str,
+        default: &str,
+        choices: &[(&[&str], T)],
+    ) -> Result<T, String> {
+        let name = self.str_or(key, default)?;
+        match choices
+            .iter()
+            .find(|(names, _)| names.contains(&name.as_str()))
+        {
+            Some((_, value)) => Ok(value.clone()),
+            None => {
+                let listed: Vec<String> = choices
+                    .iter()
+                    .filter_map(|(names, _)| names.first().map(|n| format!("\"{n}\"")))
+                    .collect();
+                let names = match listed.split_last() {
+                    Some((last, rest)) if !rest.is_empty() => {
+                        format!("{} or {last}", rest.join(", "))
+                    }
+                    _ => listed.concat(),
+                };
+                Err(format!(
+                    "{}: unknown {key} \"{name}\" (use {names})",
+                    self.what
+                ))
+            }
+        }
+    }
+
     pub(crate) fn usize_or(&mut self, key: &str, default: usize) -> Result<usize, String> {
         match self.get(key) {
             None => Ok(default),
@@ -646,24 +680,22 @@ fn is_cubic(lattice: &str) -> bool {
 
 /// Reads a cylinder's `lattice` ("cubic" by default, or "polar").
 fn cylinder_lattice(r: &mut MapReader) -> Result<String, String> {
-    let lattice = r.str_or("lattice", "cubic")?;
-    match lattice.as_str() {
-        "cubic" | "polar" => Ok(lattice),
-        other => Err(format!(
-            "tank: unknown lattice \"{other}\" for a cylinder (use \"cubic\" or \"polar\")"
-        )),
-    }
+    r.choice_or(
+        "lattice",
+        "cubic",
+        &[(&["cubic"], "cubic"), (&["polar"], "polar")],
+    )
+    .map(str::to_string)
 }
 
 /// Reads `tilt_shape` ("plane" by default, or "mode1").
 fn tilt_shape(r: &mut MapReader) -> Result<String, String> {
-    let shape = r.str_or("tilt_shape", "plane")?;
-    match shape.as_str() {
-        "plane" | "mode1" => Ok(shape),
-        other => Err(format!(
-            "tank: unknown tilt_shape \"{other}\" (use \"plane\" or \"mode1\")"
-        )),
-    }
+    r.choice_or(
+        "tilt_shape",
+        "plane",
+        &[(&["plane"], "plane"), (&["mode1"], "mode1")],
+    )
+    .map(str::to_string)
 }
 
 impl TankSpec {
@@ -1283,16 +1315,17 @@ impl Resolution {
 /// Returns the parameters, the scheme name and the resolution.
 pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, Resolution), String> {
     let mut r = MapReader::new("numerics", map);
-    let scheme = r.str_or("scheme", "paper")?;
-    let mut p = match scheme.as_str() {
-        "paper" => SphParams::default(),
-        "modern" => SphParams::modern(),
-        other => {
-            return Err(format!(
-                "numerics: unknown scheme \"{other}\" (use \"paper\" or \"modern\")"
-            ))
-        }
+    let scheme = r.choice_or(
+        "scheme",
+        "paper",
+        &[(&["paper"], "paper"), (&["modern"], "modern")],
+    )?;
+    let mut p = if scheme == "modern" {
+        SphParams::modern()
+    } else {
+        SphParams::paper()
     };
+    let scheme = scheme.to_string();
     let resolution = match (
         r.opt_f64("dx")?,
         r.opt_f64("particles_per_depth")?,
@@ -1309,15 +1342,14 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, Resolut
         }
     };
     p.smoothing_ratio = r.f64_or("h_over_dx", p.smoothing_ratio)?;
-    p.kernel = match r.str_or("kernel", kernel_name(p.kernel))?.as_str() {
-        "cubic_spline" | "cubic" => KernelKind::CubicSpline,
-        "wendland_c2" | "wendland" => KernelKind::WendlandC2,
-        other => {
-            return Err(format!(
-                "numerics: unknown kernel \"{other}\" (use \"cubic_spline\" or \"wendland_c2\")"
-            ))
-        }
-    };
+    p.kernel = r.choice_or(
+        "kernel",
+        kernel_name(p.kernel),
+        &[
+            (&["cubic_spline", "cubic"], KernelKind::CubicSpline),
+            (&["wendland_c2", "wendland"], KernelKind::WendlandC2),
+        ],
+    )?;
     p.rest_density = r.f64_or("rest_density", p.rest_density)?;
     p.dynamic_viscosity = r.f64_or("viscosity", p.dynamic_viscosity)?;
     read_sound_speed(&mut r, &mut p)?;
@@ -1350,39 +1382,35 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, Resolut
         ));
     }
     p.allow_unstable_dt = r.bool_or("allow_unstable_dt", p.allow_unstable_dt)?;
-    p.neighbour_backend = match r.str_or("neighbour_search", "grid")?.as_str() {
-        "grid" | "cell_grid" => NeighbourBackend::CellGrid,
-        "kdtree" | "kd_tree" => NeighbourBackend::KdTree,
-        other => {
-            return Err(format!(
-                "numerics: unknown neighbour_search \"{other}\" (use \"grid\" or \"kdtree\")"
-            ))
-        }
-    };
+    p.neighbour_backend = r.choice_or(
+        "neighbour_search",
+        "grid",
+        &[
+            (&["grid", "cell_grid"], NeighbourBackend::CellGrid),
+            (&["kdtree", "kd_tree"], NeighbourBackend::KdTree),
+        ],
+    )?;
     p.reorder_interval = r.usize_or("reorder_interval", p.reorder_interval)?;
-    p.wall_pressure = match r
-        .str_or("wall_pressure", wall_pressure_name(p.wall_pressure))?
-        .as_str()
-    {
-        "nearest_fluid" => WallPressureMethod::NearestFluid,
-        "kernel_extrapolation" => WallPressureMethod::KernelExtrapolation,
-        "wall_particle" => WallPressureMethod::WallParticle,
-        other => {
-            return Err(format!(
-                "numerics: unknown wall_pressure \"{other}\" (use \"nearest_fluid\", \
-                 \"kernel_extrapolation\" or \"wall_particle\")"
-            ))
-        }
-    };
-    p.density = match r.str_or("density", density_name(p.density))?.as_str() {
-        "summation" => DensityMethod::Summation,
-        "continuity" => DensityMethod::Continuity,
-        other => {
-            return Err(format!(
-                "numerics: unknown density \"{other}\" (use \"summation\" or \"continuity\")"
-            ))
-        }
-    };
+    p.wall_pressure = r.choice_or(
+        "wall_pressure",
+        wall_pressure_name(p.wall_pressure),
+        &[
+            (&["nearest_fluid"], WallPressureMethod::NearestFluid),
+            (
+                &["kernel_extrapolation"],
+                WallPressureMethod::KernelExtrapolation,
+            ),
+            (&["wall_particle"], WallPressureMethod::WallParticle),
+        ],
+    )?;
+    p.density = r.choice_or(
+        "density",
+        density_name(p.density),
+        &[
+            (&["summation"], DensityMethod::Summation),
+            (&["continuity"], DensityMethod::Continuity),
+        ],
+    )?;
     let (diffusion_default, delta_default) = match p.density_diffusion {
         DensityDiffusion::None => ("none", 0.1),
         DensityDiffusion::MolteniColagrossi { delta } => ("molteni_colagrossi", delta),
@@ -1394,39 +1422,35 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, Resolut
             "numerics: delta must be a number ≥ 0 (got {delta})"
         ));
     }
-    p.density_diffusion = match r.str_or("density_diffusion", diffusion_default)?.as_str() {
-        "none" => DensityDiffusion::None,
-        "molteni_colagrossi" | "molteni" => DensityDiffusion::MolteniColagrossi { delta },
-        "fourtakas" => DensityDiffusion::Fourtakas { delta },
-        other => {
-            return Err(format!(
-                "numerics: unknown density_diffusion \"{other}\" (use \"none\", \
-                 \"molteni_colagrossi\" or \"fourtakas\")"
-            ))
-        }
-    };
-    p.boundary = match r.str_or("boundary", boundary_name(p.boundary))?.as_str() {
-        "dynamic" => BoundaryMethod::Dynamic,
-        "adami" => BoundaryMethod::Adami,
-        other => {
-            return Err(format!(
-                "numerics: unknown boundary \"{other}\" (use \"dynamic\" or \"adami\")"
-            ))
-        }
-    };
+    p.density_diffusion = r.choice_or(
+        "density_diffusion",
+        diffusion_default,
+        &[
+            (&["none"], DensityDiffusion::None),
+            (
+                &["molteni_colagrossi", "molteni"],
+                DensityDiffusion::MolteniColagrossi { delta },
+            ),
+            (&["fourtakas"], DensityDiffusion::Fourtakas { delta }),
+        ],
+    )?;
+    p.boundary = r.choice_or(
+        "boundary",
+        boundary_name(p.boundary),
+        &[
+            (&["dynamic"], BoundaryMethod::Dynamic),
+            (&["adami"], BoundaryMethod::Adami),
+        ],
+    )?;
     p.wall_no_slip = r.bool_or("wall_no_slip", p.wall_no_slip)?;
-    p.integrator = match r
-        .str_or("integrator", integrator_name(p.integrator))?
-        .as_str()
-    {
-        "leapfrog" | "leap_frog" => Integrator::LeapFrog,
-        "symplectic" => Integrator::Symplectic,
-        other => {
-            return Err(format!(
-                "numerics: unknown integrator \"{other}\" (use \"leapfrog\" or \"symplectic\")"
-            ))
-        }
-    };
+    p.integrator = r.choice_or(
+        "integrator",
+        integrator_name(p.integrator),
+        &[
+            (&["leapfrog", "leap_frog"], Integrator::LeapFrog),
+            (&["symplectic"], Integrator::Symplectic),
+        ],
+    )?;
     let shifting = r.f64_or("shifting", p.shifting.unwrap_or(0.0))?;
     if !(shifting.is_finite() && shifting >= 0.0) {
         return Err(format!(
@@ -1434,18 +1458,14 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, Resolut
         ));
     }
     p.shifting = if shifting > 0.0 { Some(shifting) } else { None };
-    p.pair_scheme = match r
-        .str_or("pair_scheme", pair_scheme_name(p.pair_scheme))?
-        .as_str()
-    {
-        "standard" => PairScheme::Standard,
-        "riemann" => PairScheme::Riemann,
-        other => {
-            return Err(format!(
-                "numerics: unknown pair_scheme \"{other}\" (use \"standard\" or \"riemann\")"
-            ))
-        }
-    };
+    p.pair_scheme = r.choice_or(
+        "pair_scheme",
+        pair_scheme_name(p.pair_scheme),
+        &[
+            (&["standard"], PairScheme::Standard),
+            (&["riemann"], PairScheme::Riemann),
+        ],
+    )?;
     // The single-sum operator is a term of the standard pair against Adami walls: a script
     // that picks the Riemann pair or dynamic walls without naming the operator gets the
     // strain-rate one, which goes with every pair and wall.
@@ -1455,19 +1475,14 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, Resolut
         } else {
             ViscousOperator::StrainRate
         };
-    p.viscous_operator = match r
-        .str_or("viscous_operator", viscous_operator_name(operator_default))?
-        .as_str()
-    {
-        "strain_rate" => ViscousOperator::StrainRate,
-        "monaghan_cleary" => ViscousOperator::MonaghanCleary,
-        other => {
-            return Err(format!(
-                "numerics: unknown viscous_operator \"{other}\" (use \"strain_rate\" or \
-                 \"monaghan_cleary\")"
-            ))
-        }
-    };
+    p.viscous_operator = r.choice_or(
+        "viscous_operator",
+        viscous_operator_name(operator_default),
+        &[
+            (&["strain_rate"], ViscousOperator::StrainRate),
+            (&["monaghan_cleary"], ViscousOperator::MonaghanCleary),
+        ],
+    )?;
     let backend = r.str_or("backend", "cpu")?;
     p.backend = Backend::from_name(&backend).ok_or_else(|| {
         format!("numerics: unknown backend \"{backend}\" (use \"cpu\", \"gpu\" or \"gpu_f32\")")
@@ -1587,6 +1602,35 @@ mod tests {
             map.insert((*k).into(), v.clone());
         }
         numerics_from_map(&map)
+    }
+
+    #[test]
+    fn a_name_outside_the_choices_is_refused_with_the_choices() {
+        let err = numerics(&[("kernel", "gaussian".into())]).unwrap_err();
+        assert_eq!(
+            err,
+            "numerics: unknown kernel \"gaussian\" (use \"cubic_spline\" or \"wendland_c2\")"
+        );
+        let err = numerics(&[("wall_pressure", "mirror".into())]).unwrap_err();
+        assert_eq!(
+            err,
+            "numerics: unknown wall_pressure \"mirror\" (use \"nearest_fluid\", \
+             \"kernel_extrapolation\" or \"wall_particle\")"
+        );
+        // Another name of a choice is accepted; a choice's value is what it stands for.
+        let (p, _, _) = numerics(&[
+            ("kernel", "wendland".into()),
+            ("density_diffusion", "molteni".into()),
+            ("delta", 0.05.into()),
+        ])
+        .unwrap();
+        assert_eq!(p.kernel, KernelKind::WendlandC2);
+        assert_eq!(
+            p.density_diffusion,
+            DensityDiffusion::MolteniColagrossi { delta: 0.05 }
+        );
+        let err = numerics(&[("scheme", "dualsphysics".into())]).unwrap_err();
+        assert!(err.contains("(use \"paper\" or \"modern\")"), "{err}");
     }
 
     #[test]
