@@ -701,3 +701,36 @@ fn polar_lattice_fits_the_shell() {
         "{column:?}"
     );
 }
+
+/// Liquid filled above the shell top into a cone roof: the polar lattice's columns stop at the
+/// roof as the cubic lattice's do, and the liquid holds the cylinder and the cone frustum below
+/// the fill level (exact volume; the lattice rounds each column at the slanted roof to the
+/// nearest row, an error of a fraction of a cell per column that averages out over the rings).
+#[test]
+fn polar_lattice_fills_into_a_cone_roof() {
+    let (r, h, rise, depth, dx) = (0.5, 0.4, 0.2, 0.5, 0.025);
+    let build = |lattice| {
+        CylinderTank::new(r, h, depth, Roof::Cone { apex_height: rise })
+            .with_layers(4)
+            .with_lattice(lattice)
+            .build(dx)
+            .unwrap()
+    };
+    let (polar, cubic) = (build(CylinderLattice::Polar), build(CylinderLattice::Cubic));
+    let level = polar.fill_level;
+    // The cone's radius at height z above the shell top: R (1 − (z − h)/rise).
+    let top = r * (1.0 - (level - h) / rise);
+    let exact = PI * r * r * h + PI / 3.0 * (level - h) * (r * r + r * top + top * top);
+    let volume = |s: &ParticleSetup<3>| s.fluid_positions.len() as f64 * dx.powi(3);
+    println!(
+        "fill level {level} m: exact {exact:.5} m³, polar {:.5}, cubic {:.5}",
+        volume(&polar),
+        volume(&cubic)
+    );
+    assert!(rel(volume(&polar), exact) < 0.01);
+    for p in &polar.fluid_positions {
+        let radius = (p.x * p.x + p.y * p.y).sqrt();
+        let roof = h + rise * (1.0 - radius / r);
+        assert!(radius < r && p.z > 0.0 && p.z < level.min(roof), "{p}");
+    }
+}
