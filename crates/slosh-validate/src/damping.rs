@@ -843,8 +843,8 @@ const CYLINDER_LEVELS: [usize; 2] = [15, 20];
 /// their own, whose runs checkpoint and resume.
 const CYLINDER_FINE_LEVELS: [usize; 2] = [30, 40];
 /// What is known of the cylinder's damping beyond the 2D tanks' at the same resolution.
-const CYLINDER_GAP: &str = "on the polar lattice the cylinder damps by ζ = 0.35 % at 15 and \
-    0.16 % at 20 per depth; on the cubic lattice, whose staircase at the curved shell the first \
+const CYLINDER_GAP: &str = "on the polar lattice the cylinder damps by ζ = 0.35 % at 15, \
+    0.16 % at 20 and 0.14 % at 30 per depth; on the cubic lattice, whose staircase at the curved shell the first \
     mode's flow crosses, 0.48 % and 0.38 %, and 0.42 % at 30 (docs/validation.md, *Damping in \
     3D*)";
 
