@@ -17,7 +17,10 @@
 //! - **Resumable**: a case whose folder holds a `summary.ron` with status `"completed"` and
 //!   the same parameter values (the varied ones, and the script's other defaults) is not run
 //!   again; its row is read from that summary. Changes to the script's code, not its
-//!   parameters, are not detected: delete the folder (or `DIR`) to rerun.
+//!   parameters, are not detected: delete the folder (or `DIR`) to rerun. A case stopped
+//!   part way with a checkpoint continues from it (`slosh resume`): one a signal stopped
+//!   (`"interrupted"`), and one killed outright, whose summary still says `"running"`,
+//!   when its checkpoint was started with the same `--set` values and script.
 //! - **Table**: `DIR/sweep.csv`, one row per case in sweep order: `case` (the folder), the
 //!   varied values, `status` (`completed`/`failed`), `error`, then every number at the top
 //!   level of the summary, `theory_<name>` and `post_<name>` (the script's `post` results).
@@ -865,6 +868,16 @@ pub(crate) fn done_before(p: &Planned) -> Option<ReadSummary> {
         .filter(|s| s.completed() && same_parameters(&s.head, &p.expected, &p.values))
 }
 
+/// A case whose run was killed before it could write its summary (which still says
+/// "running") was started with this case's `--set` arguments, and its checkpoint can be
+/// resumed (the script unchanged, the same program version).
+fn killed_with_same_sets(p: &Planned) -> bool {
+    slosh_case::checkpoint::RunRecord::read(&p.dir).is_ok_and(|record| {
+        let sets: Vec<String> = p.values.iter().map(|(k, v)| format!("{k}={v}")).collect();
+        record.sets == sets
+    })
+}
+
 /// Runs the planned cases of a sweep or an assessment (`what` names it in messages), at most
 /// `jobs` at once (0: one per core), each as a child `slosh run` with `threads` threads
 /// (`None`: cores / jobs); a case whose folder already
@@ -1027,16 +1040,23 @@ fn run_one(exe: &Path, case: &Path, p: &Planned, threads: usize, allow_read: &[P
         return fail(format!("cannot create {}: {e}", p.dir.display()), None);
     }
     let summary_path = p.dir.join("summary.ron");
-    // A case interrupted before (a signal, a cluster's time limit and requeue) with these
-    // parameters continues from its checkpoint.
+    // A case interrupted before with these parameters continues from its checkpoint: one
+    // stopped by a signal (a cluster's time limit and requeue) says "interrupted"; one killed
+    // outright (SIGKILL, the machine or its session gone) still says "running", and its last
+    // checkpoint holds the state and the series up to that point. Were such a case still
+    // running elsewhere, `slosh resume` would refuse its locked folder.
     let resumable = p
         .dir
         .join(slosh_case::checkpoint::CHECKPOINT_DIR)
         .join("state.bin")
         .exists()
-        && read_summary(&summary_path).ok().is_some_and(|s| {
-            s.head.status == "interrupted" && same_parameters(&s.head, &p.expected, &p.values)
-        });
+        && read_summary(&summary_path)
+            .ok()
+            .is_some_and(|s| match s.head.status.as_str() {
+                "interrupted" => same_parameters(&s.head, &p.expected, &p.values),
+                "running" => killed_with_same_sets(p),
+                _ => false,
+            });
     if !resumable {
         // A stale summary must not stand in for this run if the run fails before writing one.
         let _ = std::fs::remove_file(&summary_path);

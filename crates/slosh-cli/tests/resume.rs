@@ -270,9 +270,10 @@ fn resume_refuses_what_it_cannot_continue() {
     assert!(err.contains("not a slosh checkpoint"), "{err}");
 }
 
-#[test]
-fn an_interrupted_sweep_case_continues_from_its_checkpoint() {
-    let dir = temp("sweep");
+/// A one-case sweep of a 4 s sloshing run, stopped by SIGINT once its case has written 100
+/// rows: the sweep's arguments and the case folder, which holds a checkpoint.
+fn sweep_stopped_part_way(test: &str) -> (Vec<String>, PathBuf) {
+    let dir = temp(test);
     let script = dir.join("case.rhai");
     std::fs::write(
         &script,
@@ -284,7 +285,7 @@ fn an_interrupted_sweep_case_continues_from_its_checkpoint() {
     )
     .unwrap();
     let out = dir.join("sweep");
-    let args = [
+    let args: Vec<String> = [
         "sweep",
         script.to_str().unwrap(),
         "--vary",
@@ -293,8 +294,11 @@ fn an_interrupted_sweep_case_continues_from_its_checkpoint() {
         "1",
         "--out",
         out.to_str().unwrap(),
-    ];
-    let child = slosh(&args)
+    ]
+    .map(String::from)
+    .to_vec();
+    let arg_refs: Vec<&str> = args.iter().map(String::as_str).collect();
+    let child = slosh(&arg_refs)
         .stderr(Stdio::piped())
         .stdout(Stdio::piped())
         .spawn()
@@ -324,8 +328,14 @@ fn an_interrupted_sweep_case_continues_from_its_checkpoint() {
         String::from_utf8_lossy(&o.stderr)
     );
     assert!(case_dir.join("checkpoint/state.bin").exists());
+    (args, case_dir)
+}
 
-    let o = slosh(&args).output().unwrap();
+/// The sweep run again on the folder of [`sweep_stopped_part_way`] completes its case from
+/// the checkpoint, to the rows of the whole 4 s.
+fn sweep_continues_the_case(args: &[String], case_dir: &Path) {
+    let arg_refs: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = slosh(&arg_refs).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let summary = std::fs::read_to_string(case_dir.join("summary.ron")).unwrap();
     assert!(summary.contains("status: \"completed\""), "{summary}");
@@ -340,6 +350,45 @@ fn an_interrupted_sweep_case_continues_from_its_checkpoint() {
     assert!(
         rows > 400,
         "a header and the rows of 4 s at 0.01 s: {rows} lines"
+    );
+}
+
+#[test]
+fn an_interrupted_sweep_case_continues_from_its_checkpoint() {
+    let (args, case_dir) = sweep_stopped_part_way("sweep");
+    sweep_continues_the_case(&args, &case_dir);
+}
+
+/// A case killed outright (SIGKILL, the machine gone) leaves what a run leaves between two
+/// checkpoints: its last checkpoint, the summary of a run in progress ("running", the pid
+/// of a process that no longer exists), its lock, and series rows past the checkpoint. The
+/// sweep run again continues it from the checkpoint rather than from the start.
+#[test]
+fn a_sweep_case_killed_outright_continues_from_its_checkpoint() {
+    let (args, case_dir) = sweep_stopped_part_way("sweep-killed");
+    // A pid above the kernel's limit (2²² at most) names no process.
+    let dead_pid = 1u32 << 30;
+    std::fs::write(
+        case_dir.join("summary.ron"),
+        format!(
+            "(\n    version: \"{}\",\n    case: \"case\",\n    script: \"case.rhai\",\n    \
+             status: \"running\",\n    pid: {dead_pid},\n    error: None,\n)\n",
+            env!("CARGO_PKG_VERSION")
+        ),
+    )
+    .unwrap();
+    std::fs::write(case_dir.join(".slosh.lock"), dead_pid.to_string()).unwrap();
+    let mut series = std::fs::OpenOptions::new()
+        .append(true)
+        .open(case_dir.join("series.csv"))
+        .unwrap();
+    std::io::Write::write_all(&mut series, b"99.0,1,2,3\n").unwrap();
+    drop(series);
+    sweep_continues_the_case(&args, &case_dir);
+    let series = std::fs::read_to_string(case_dir.join("series.csv")).unwrap();
+    assert!(
+        !series.contains("99.0,1,2,3"),
+        "the rows past the checkpoint are rewritten from it"
     );
 }
 

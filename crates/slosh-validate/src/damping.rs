@@ -839,9 +839,9 @@ pub(crate) fn free_decay_with(
 const CYLINDER: (f64, f64) = (0.5, 0.5);
 /// Its resolutions, particles per depth (here also per radius).
 const CYLINDER_LEVELS: [usize; 2] = [15, 20];
-/// The finer levels (≈ 0.1 and 0.25 million particles, hours each on 2 cores): a stage of
-/// their own, whose runs checkpoint and resume.
-const CYLINDER_FINE_LEVELS: [usize; 2] = [30, 40];
+/// The finer levels (≈ 0.1 and 0.3 million particles, 1.5 and ≈ 4 hours on 2 cores): a
+/// stage each, whose runs checkpoint and resume.
+pub const CYLINDER_FINE_LEVELS: [usize; 2] = [30, 40];
 /// What is known of the cylinder's damping beyond the 2D tanks' at the same resolution.
 const CYLINDER_GAP: &str = "on the polar lattice the cylinder damps by ζ = 0.35 % at 15, \
     0.16 % at 20 and 0.14 % at 30 per depth; on the cubic lattice, whose staircase at the curved shell the first \
@@ -861,10 +861,14 @@ pub fn cylinder_free_decay(ctx: &Context) -> GroupResult {
     cylinder_decay_at(ctx, &CYLINDER_LEVELS, "damping_decay_cylinder")
 }
 
-/// [`cylinder_free_decay`] at [`CYLINDER_FINE_LEVELS`], where the damping target at 40 per
-/// depth stands.
-pub fn cylinder_free_decay_fine(ctx: &Context) -> GroupResult {
-    cylinder_decay_at(ctx, &CYLINDER_FINE_LEVELS, "damping_decay_cylinder_fine")
+/// [`cylinder_free_decay`] at `particles_per_depth`, one of [`CYLINDER_FINE_LEVELS`] (at 40
+/// per depth stands the damping target).
+pub fn cylinder_free_decay_fine(ctx: &Context, particles_per_depth: usize) -> GroupResult {
+    cylinder_decay_at(
+        ctx,
+        &[particles_per_depth],
+        &format!("damping_decay_cylinder_{particles_per_depth}_per_depth"),
+    )
 }
 
 fn cylinder_decay_at(ctx: &Context, levels: &[usize], plot_stem: &str) -> GroupResult {

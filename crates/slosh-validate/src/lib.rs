@@ -481,11 +481,17 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             ),
         ));
         all.push((
-            "sloshing damping: fine cylinder decay, 30 and 40 particles per depth",
+            "sloshing damping: fine cylinder decay, 30 particles per depth",
             one(
-                "Sloshing damping: free decay in a cylinder at 30 and 40 per depth (modern \
-                 scheme)",
-                damping::cylinder_free_decay_fine,
+                "Sloshing damping: free decay in a cylinder at 30 per depth (modern scheme)",
+                |ctx| damping::cylinder_free_decay_fine(ctx, damping::CYLINDER_FINE_LEVELS[0]),
+            ),
+        ));
+        all.push((
+            "sloshing damping: fine cylinder decay, 40 particles per depth",
+            one(
+                "Sloshing damping: free decay in a cylinder at 40 per depth (modern scheme)",
+                |ctx| damping::cylinder_free_decay_fine(ctx, damping::CYLINDER_FINE_LEVELS[1]),
             ),
         ));
         all.push((
