@@ -33,6 +33,6 @@ pub mod spectrum;
 mod stop;
 mod summary;
 
-pub use runner::{run_case_with_stop, RunOptions};
+pub use runner::{run_case_with_stop, RunOptions, NOTHING_TO_RESUME};
 pub use stop::{Interrupted, TEST_STOP_AT_ENV};
 pub use summary::{Summary, TheoryNumbers};

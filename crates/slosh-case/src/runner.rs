@@ -18,6 +18,10 @@ use slosh_script::{Case, SectionOutlineSpec, TankSpec};
 use std::path::PathBuf;
 use std::time::Instant;
 
+/// The end of the refusal to resume a run whose checkpoint is of its end (a run killed while
+/// it wrote its summary and plots); a sweep recognises it and runs the case again.
+pub const NOTHING_TO_RESUME: &str = "nothing to resume";
+
 /// How to run a case.
 #[derive(Clone, Debug, Default)]
 pub struct RunOptions {
@@ -305,7 +309,7 @@ fn run_built<const D: usize>(
         let file = crate::checkpoint::read_state::<D>(out)?;
         if file.state.sim.time >= case.run.duration - 1e-9 {
             anyhow::bail!(
-                "the run in {} is complete (t = {} s of {} s): nothing to resume",
+                "the run in {} is complete (t = {} s of {} s): {NOTHING_TO_RESUME}",
                 out.display(),
                 file.state.sim.time,
                 case.run.duration

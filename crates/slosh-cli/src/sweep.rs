@@ -20,7 +20,8 @@
 //!   parameters, are not detected: delete the folder (or `DIR`) to rerun. A case stopped
 //!   part way with a checkpoint continues from it (`slosh resume`): one a signal stopped
 //!   (`"interrupted"`), and one killed outright, whose summary still says `"running"`,
-//!   when its checkpoint was started with the same `--set` values and script.
+//!   when its checkpoint was started with the same `--set` values and script (one killed
+//!   after the checkpoint of its end, which cannot be resumed, runs again from the start).
 //! - **Table**: `DIR/sweep.csv`, one row per case in sweep order: `case` (the folder), the
 //!   varied values, `status` (`completed`/`failed`), `error`, then every number at the top
 //!   level of the summary, `theory_<name>` and `post_<name>` (the script's `post` results).
@@ -1023,8 +1024,53 @@ fn wait_forwarding_signals(
     }
 }
 
-/// Runs one case as a child `slosh run` and reads its summary back.
+/// Runs one case as a child `slosh run` (or `slosh resume`, for a case stopped part way) and
+/// reads its summary back.
 fn run_one(exe: &Path, case: &Path, p: &Planned, threads: usize, allow_read: &[PathBuf]) -> Done {
+    let resumed = resumable(p);
+    let done = run_child(exe, case, p, threads, allow_read, resumed);
+    // A case killed after its last checkpoint, while it wrote its summary and plots, left the
+    // checkpoint of a complete run, which `slosh resume` refuses: it runs again from the start.
+    let complete_checkpoint = done.outcome.status == CaseStatus::Failed
+        && done
+            .outcome
+            .error
+            .as_deref()
+            .is_some_and(|e| e.contains(slosh_case::NOTHING_TO_RESUME));
+    if resumed && complete_checkpoint {
+        return run_child(exe, case, p, threads, allow_read, false);
+    }
+    done
+}
+
+/// Whether the case stopped part way with these parameters and continues from its
+/// checkpoint: one stopped by a signal (a cluster's time limit and requeue) says
+/// "interrupted"; one killed outright (SIGKILL, the machine or its session gone) still says
+/// "running", and its last checkpoint holds the state and the series up to that point. Were
+/// such a case still running elsewhere, `slosh resume` would refuse its locked folder.
+fn resumable(p: &Planned) -> bool {
+    p.dir
+        .join(slosh_case::checkpoint::CHECKPOINT_DIR)
+        .join("state.bin")
+        .exists()
+        && read_summary(&p.dir.join("summary.ron"))
+            .ok()
+            .is_some_and(|s| match s.head.status.as_str() {
+                "interrupted" => same_parameters(&s.head, &p.expected, &p.values),
+                "running" => killed_with_same_sets(p),
+                _ => false,
+            })
+}
+
+/// [`run_one`]'s child process: `slosh resume` with `resumable`, else `slosh run`.
+fn run_child(
+    exe: &Path,
+    case: &Path,
+    p: &Planned,
+    threads: usize,
+    allow_read: &[PathBuf],
+    resumable: bool,
+) -> Done {
     let start = Instant::now();
     let fail = |error: String, summary: Option<ReadSummary>| Done {
         outcome: CaseOutcome {
@@ -1040,23 +1086,6 @@ fn run_one(exe: &Path, case: &Path, p: &Planned, threads: usize, allow_read: &[P
         return fail(format!("cannot create {}: {e}", p.dir.display()), None);
     }
     let summary_path = p.dir.join("summary.ron");
-    // A case interrupted before with these parameters continues from its checkpoint: one
-    // stopped by a signal (a cluster's time limit and requeue) says "interrupted"; one killed
-    // outright (SIGKILL, the machine or its session gone) still says "running", and its last
-    // checkpoint holds the state and the series up to that point. Were such a case still
-    // running elsewhere, `slosh resume` would refuse its locked folder.
-    let resumable = p
-        .dir
-        .join(slosh_case::checkpoint::CHECKPOINT_DIR)
-        .join("state.bin")
-        .exists()
-        && read_summary(&summary_path)
-            .ok()
-            .is_some_and(|s| match s.head.status.as_str() {
-                "interrupted" => same_parameters(&s.head, &p.expected, &p.values),
-                "running" => killed_with_same_sets(p),
-                _ => false,
-            });
     if !resumable {
         // A stale summary must not stand in for this run if the run fails before writing one.
         let _ = std::fs::remove_file(&summary_path);

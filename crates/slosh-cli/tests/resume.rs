@@ -366,6 +366,24 @@ fn an_interrupted_sweep_case_continues_from_its_checkpoint() {
 #[test]
 fn a_sweep_case_killed_outright_continues_from_its_checkpoint() {
     let (args, case_dir) = sweep_stopped_part_way("sweep-killed");
+    leave_as_killed(&case_dir);
+    let mut series = std::fs::OpenOptions::new()
+        .append(true)
+        .open(case_dir.join("series.csv"))
+        .unwrap();
+    std::io::Write::write_all(&mut series, b"99.0,1,2,3\n").unwrap();
+    drop(series);
+    sweep_continues_the_case(&args, &case_dir);
+    let series = std::fs::read_to_string(case_dir.join("series.csv")).unwrap();
+    assert!(
+        !series.contains("99.0,1,2,3"),
+        "the rows past the checkpoint are rewritten from it"
+    );
+}
+
+/// Leaves `case_dir` as a run killed outright leaves it: the summary of a run in progress
+/// ("running", the pid of a process that no longer exists) and its lock.
+fn leave_as_killed(case_dir: &Path) {
     // A pid above the kernel's limit (2²² at most) names no process.
     let dead_pid = 1u32 << 30;
     std::fs::write(
@@ -378,17 +396,27 @@ fn a_sweep_case_killed_outright_continues_from_its_checkpoint() {
     )
     .unwrap();
     std::fs::write(case_dir.join(".slosh.lock"), dead_pid.to_string()).unwrap();
-    let mut series = std::fs::OpenOptions::new()
-        .append(true)
-        .open(case_dir.join("series.csv"))
-        .unwrap();
-    std::io::Write::write_all(&mut series, b"99.0,1,2,3\n").unwrap();
-    drop(series);
+}
+
+/// A case killed after its checkpoint at the end of the run (while it wrote its summary and
+/// plots) cannot be resumed: the sweep runs it again from the start, in the same call.
+#[test]
+fn a_sweep_case_killed_after_its_last_checkpoint_runs_again() {
+    let (args, case_dir) = sweep_stopped_part_way("sweep-killed-at-end");
     sweep_continues_the_case(&args, &case_dir);
-    let series = std::fs::read_to_string(case_dir.join("series.csv")).unwrap();
     assert!(
-        !series.contains("99.0,1,2,3"),
-        "the rows past the checkpoint are rewritten from it"
+        case_dir.join("checkpoint/state.bin").exists(),
+        "a finished run keeps the checkpoint of its end"
+    );
+    leave_as_killed(&case_dir);
+    let arg_refs: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = slosh(&arg_refs).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary = std::fs::read_to_string(case_dir.join("summary.ron")).unwrap();
+    assert!(summary.contains("status: \"completed\""), "{summary}");
+    assert!(
+        !summary.contains("from_step:"),
+        "run again from the start: {summary}"
     );
 }
 
