@@ -99,9 +99,18 @@ impl Manifest {
     /// One planned run per motion, in `out_dir/runs/`.
     pub(crate) fn plans(&self, out_dir: &Path, declared: &[ParamDecl]) -> Vec<Planned> {
         let runs = out_dir.join("runs");
+        let options = self.read_options();
         self.motions
             .iter()
-            .map(|m| Planned::new(m.name.clone(), &runs, self.values_of(m), declared))
+            .map(|m| {
+                Planned::new(
+                    m.name.clone(),
+                    &runs,
+                    self.values_of(m),
+                    (&self.case, &options),
+                    declared,
+                )
+            })
             .collect()
     }
 }

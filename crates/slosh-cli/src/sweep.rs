@@ -15,8 +15,9 @@
 //!   --threads T`), at most `jobs` at once, `T = max(1, cores / jobs)`. Processes isolate a
 //!   crash or blow-up of one case from the others and give each case its own worker pool.
 //! - **Resumable**: a case whose folder holds a `summary.ron` with status `"completed"` and
-//!   the same parameter values (the varied ones, and the script's other defaults) is not run
-//!   again; its row is read from that summary. Changes to the script's code, not its
+//!   the same parameter values (the varied ones, and the script's other parameters at the
+//!   defaults it gives them with the case's values set) is not run again; its row is read
+//!   from that summary. Changes to the script's code, not its
 //!   parameters, are not detected: delete the folder (or `DIR`) to rerun. A case stopped
 //!   part way with a checkpoint continues from it (`slosh resume`): one a signal stopped
 //!   (`"interrupted"`), and one killed outright, whose summary still says `"running"`,
@@ -485,14 +486,26 @@ pub(crate) struct Planned {
 }
 
 impl Planned {
-    /// A case run in `parent/folder` with `values` set over the script's `declared` defaults.
+    /// A case of script `case` (read with `options`) run in `parent/folder` with `values`
+    /// set. Its other parameters are expected at the defaults the script gives them with
+    /// these values set (a default may follow another parameter, as an excitation frequency
+    /// follows the tank's width); `declared`, the script's defaults with nothing set, stands
+    /// in when the script refuses these values (the case then fails on its own).
     pub(crate) fn new(
         folder: String,
         parent: &Path,
         values: Vec<(String, ParamValue)>,
+        (case, options): (&Path, &CaseOptions),
         declared: &[slosh_script::ParamDecl],
     ) -> Planned {
-        let expected = declared
+        let with_values = CaseOptions {
+            overrides: values.clone(),
+            ..options.clone()
+        };
+        let own = list_params_with(case, &with_values).ok();
+        let expected = own
+            .as_deref()
+            .unwrap_or(declared)
             .iter()
             .map(|p| {
                 let v = values
@@ -698,7 +711,13 @@ pub fn cli_sweep_as(
             );
         }
         folders.insert(folder.clone(), k);
-        planned.push(Planned::new(folder, &out_dir, values, &declared));
+        planned.push(Planned::new(
+            folder,
+            &out_dir,
+            values,
+            (case, &read_options),
+            &declared,
+        ));
     }
 
     let csv = out_dir.join("sweep.csv");

@@ -17,14 +17,15 @@ fn temp(test: &str) -> PathBuf {
 }
 
 /// A small, fast 2D case: 0.4 m × 0.2 m of water at dx = 0.04 m for 0.05 s under a gentle
-/// sine, with a `post` that returns one number.
+/// sine, with a `post` that returns one number. The duration's default follows the depth
+/// (depth/4 s), as a script's excitation frequency may follow its tank.
 fn small_case(dir: &Path) -> PathBuf {
     let script = r#"
 let width = param("width", 0.4);
 let tank_height = param("tank_height", 0.4);
 let depth = param("depth", 0.2);
 let dx = param("dx", 0.04);
-let duration = param("duration", 0.05);
+let duration = param("duration", depth / 4.0);
 tank(#{ shape: "rect", width: width, height: tank_height, depth: depth });
 numerics(#{ dx: dx });
 run(#{ settle: 0.0, duration: duration, output_interval: 0.005 });
@@ -155,7 +156,8 @@ fn sweep_runs_the_product_and_resumes() {
         );
     }
 
-    // The second call finds every case done and runs none of them.
+    // The second call finds every case done and runs none of them (those at depth 0.16 m
+    // with the duration their depth gives, not the default's 0.05 s).
     let before: Vec<SystemTime> = folders
         .iter()
         .map(|f| mtime(&out.join(f).join("summary.ron")))
