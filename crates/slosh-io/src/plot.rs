@@ -317,8 +317,23 @@ struct XyFigure<'s, 'a> {
     identity: bool,
 }
 
-fn title_style() -> TextStyle<'static> {
-    (FONT, 26).into_font().color(&BLACK)
+/// The title's font: 26 px, smaller (down to 12 px) for a title wider than the figure, so
+/// that a long one is not cut at both ends.
+fn title_style<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+) -> TextStyle<'static> {
+    const LARGEST: f64 = 26.0;
+    let room = 0.96 * root.dim_in_pixel().0 as f64;
+    let wide = root
+        .estimate_text_size(title, &(FONT, LARGEST).into_font().color(&BLACK))
+        .map_or(0.0, |(w, _)| w as f64);
+    let size = if wide > room {
+        (LARGEST * room / wide).floor().max(12.0)
+    } else {
+        LARGEST
+    };
+    (FONT, size).into_font().color(&BLACK)
 }
 
 impl Figure for XyFigure<'_, '_> {
@@ -361,7 +376,9 @@ impl Figure for XyFigure<'_, '_> {
         };
         let xfmt = |v: &f64| tick_label(*v, x1 - x0);
         let yfmt = |v: &f64| tick_label(*v, y1 - y0);
-        let area = root.titled(&title, title_style()).map_err(err_string)?;
+        let area = root
+            .titled(&title, title_style(root, &title))
+            .map_err(err_string)?;
         let mut chart = ChartBuilder::on(&area)
             .margin(12)
             .margin_right(28)
@@ -589,7 +606,9 @@ impl Figure for HeatFigure<'_, '_> {
         let xfmt = |v: &f64| tick_label(*v, x1 - x0);
         let yfmt = |v: &f64| tick_label(*v, y1 - y0);
         let vfmt = |v: &f64| tick_label(*v, v1 - v0);
-        let area = root.titled(&title, title_style()).map_err(err_string)?;
+        let area = root
+            .titled(&title, title_style(root, &title))
+            .map_err(err_string)?;
         let (w, _) = area.dim_in_pixel();
         let (main, bar) = area.split_horizontally(w.saturating_sub(135));
 
@@ -714,4 +733,36 @@ pub fn heatmap(path: impl AsRef<Path>, spec: &PlotSpec, field: &Field2d) -> Resu
         stride: svg_stride,
     };
     render_two(path, &png_fig, &svg_fig)
+}
+
+#[cfg(test)]
+mod title_tests {
+    use super::*;
+
+    /// The title's font size on a figure of the files' size.
+    fn title_size(title: &str) -> f64 {
+        assert!(ensure_font());
+        let mut pixels = vec![0u8; (PNG_WIDTH * PNG_HEIGHT * 3) as usize];
+        let root =
+            BitMapBackend::with_buffer(&mut pixels, (PNG_WIDTH, PNG_HEIGHT)).into_drawing_area();
+        title_style(&root, title).font.get_size()
+    }
+
+    /// A short title keeps the full size; one wider than the figure at that size shrinks until
+    /// it fits (the sweep plots' titles name the case, the columns and the groups).
+    #[test]
+    fn a_long_title_shrinks_to_the_figure() {
+        assert_eq!(title_size("Free decay"), 26.0);
+        let long = "paper_2d_roof_sweep — plot_max_roof_force_up_vs_post_clearance_ratio_actual\
+                    _by_width_dx";
+        let size = title_size(long);
+        assert!((12.0..26.0).contains(&size), "{size}");
+        let mut pixels = vec![0u8; (PNG_WIDTH * PNG_HEIGHT * 3) as usize];
+        let root =
+            BitMapBackend::with_buffer(&mut pixels, (PNG_WIDTH, PNG_HEIGHT)).into_drawing_area();
+        let (wide, _) = root
+            .estimate_text_size(long, &title_style(&root, long))
+            .unwrap();
+        assert!(wide <= PNG_WIDTH, "{wide} px");
+    }
 }
