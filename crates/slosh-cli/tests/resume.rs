@@ -331,14 +331,21 @@ fn sweep_stopped_part_way(test: &str) -> (Vec<String>, PathBuf) {
     (args, case_dir)
 }
 
-/// The sweep run again on the folder of [`sweep_stopped_part_way`] completes its case from
-/// the checkpoint, to the rows of the whole 4 s.
-fn sweep_continues_the_case(args: &[String], case_dir: &Path) {
+/// Runs the sweep of `args` again: it succeeds and the case in `case_dir` is completed.
+/// Returns the case's summary.
+fn sweep_again(args: &[String], case_dir: &Path) -> String {
     let arg_refs: Vec<&str> = args.iter().map(String::as_str).collect();
     let o = slosh(&arg_refs).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let summary = std::fs::read_to_string(case_dir.join("summary.ron")).unwrap();
     assert!(summary.contains("status: \"completed\""), "{summary}");
+    summary
+}
+
+/// The sweep run again on the folder of [`sweep_stopped_part_way`] completes its case from
+/// the checkpoint, to the rows of the whole 4 s.
+fn sweep_continues_the_case(args: &[String], case_dir: &Path) {
+    let summary = sweep_again(args, case_dir);
     assert!(
         summary.contains("from_step:"),
         "continued from its checkpoint: {summary}"
@@ -409,11 +416,7 @@ fn a_sweep_case_killed_after_its_last_checkpoint_runs_again() {
         "a finished run keeps the checkpoint of its end"
     );
     leave_as_killed(&case_dir);
-    let arg_refs: Vec<&str> = args.iter().map(String::as_str).collect();
-    let o = slosh(&arg_refs).output().unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let summary = std::fs::read_to_string(case_dir.join("summary.ron")).unwrap();
-    assert!(summary.contains("status: \"completed\""), "{summary}");
+    let summary = sweep_again(&args, &case_dir);
     assert!(
         !summary.contains("from_step:"),
         "run again from the start: {summary}"
