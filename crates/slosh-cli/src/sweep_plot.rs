@@ -3,7 +3,7 @@
 //! window; Fig. 10: peak roof force against H'/H, one line per tank width).
 
 use anyhow::{bail, Context, Result};
-use slosh_io::{PlotSpec, Series};
+use slosh_io::{PlotSpec, Series, SeriesStyle, PALETTE};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -117,6 +117,8 @@ pub fn draw(sweep_csv: &Path, plot: &SweepPlot, title: &str) -> Result<PathBuf> 
     let gis: Vec<usize> = plot.groups.iter().map(|g| col(g)).collect::<Result<_>>()?;
     // group label → y column → (x, y) points
     let mut data: BTreeMap<String, Vec<Vec<(f64, f64)>>> = BTreeMap::new();
+    // group label → (its first group column's value, the other group columns' values)
+    let mut group_keys: BTreeMap<String, (String, String)> = BTreeMap::new();
     for record in reader.records() {
         let record = record?;
         let Ok(x) = record[xi].trim().parse::<f64>() else {
@@ -128,6 +130,10 @@ pub fn draw(sweep_csv: &Path, plot: &SweepPlot, title: &str) -> Result<PathBuf> 
             .map(|(&g, name)| format!("{name}={}", record[g].trim()))
             .collect::<Vec<_>>()
             .join(", ");
+        let mut values = gis.iter().map(|&g| record[g].trim().to_string());
+        let first = values.next().unwrap_or_default();
+        let rest = values.collect::<Vec<_>>().join(",");
+        group_keys.entry(label.clone()).or_insert((first, rest));
         let entry = data
             .entry(label)
             .or_insert_with(|| vec![Vec::new(); yis.len()]);
@@ -139,7 +145,8 @@ pub fn draw(sweep_csv: &Path, plot: &SweepPlot, title: &str) -> Result<PathBuf> 
             }
         }
     }
-    let mut owned: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
+    // (legend, group label, xs, ys)
+    let mut owned: Vec<(String, &String, Vec<f64>, Vec<f64>)> = Vec::new();
     for (label, per_y) in &data {
         for (k, points) in per_y.iter().enumerate() {
             let mut points = points.clone();
@@ -151,14 +158,46 @@ pub fn draw(sweep_csv: &Path, plot: &SweepPlot, title: &str) -> Result<PathBuf> 
             };
             owned.push((
                 name,
+                label,
                 points.iter().map(|p| p.0).collect(),
                 points.iter().map(|p| p.1).collect(),
             ));
         }
     }
+    // With two or more group columns and one y column, the colour follows the first group
+    // column and the line style the others (solid, dashed, points), so that e.g. the widths
+    // of Fig. 10 keep their colours across two resolutions.
+    let styled = plot.groups.len() >= 2 && plot.ys.len() == 1;
+    let order = |values: Vec<&String>| -> Vec<String> {
+        let mut seen: Vec<String> = Vec::new();
+        for v in values {
+            if !seen.contains(v) {
+                seen.push(v.clone());
+            }
+        }
+        seen
+    };
+    let firsts = order(group_keys.values().map(|(f, _)| f).collect());
+    let rests = order(group_keys.values().map(|(_, r)| r).collect());
     let series: Vec<Series> = owned
         .iter()
-        .map(|(name, xs, ys)| Series::line(name.clone(), xs, ys))
+        .map(|(name, label, xs, ys)| {
+            let line = Series::line(name.clone(), xs, ys);
+            match group_keys.get(*label).filter(|_| styled) {
+                Some((first, rest)) => {
+                    let colour = firsts.iter().position(|f| f == first).unwrap_or(0);
+                    let style = rests.iter().position(|r| r == rest).unwrap_or(0);
+                    let (r, g, b) = PALETTE[colour % PALETTE.len()];
+                    Series {
+                        style: [SeriesStyle::Line, SeriesStyle::Dashed, SeriesStyle::Points]
+                            [style % 3],
+                        ..line
+                    }
+                    .with_color(r, g, b)
+                }
+                None => line,
+            }
+        })
         .collect();
     let stem = sweep_csv
         .parent()
@@ -216,5 +255,31 @@ mod tests {
         let plot = SweepPlot::parse("tank_height:max_roof_p:smoothing_steps").unwrap();
         let stem = draw(&csv, &plot, "test").unwrap();
         assert!(stem.with_extension("png").exists());
+    }
+
+    /// With two group columns the colour follows the first (two widths: two palette colours
+    /// for four lines) and the line style the second.
+    #[test]
+    fn two_group_columns_share_colours_by_the_first() {
+        let dir = std::env::temp_dir().join("slosh-sweep-plot-two-groups");
+        std::fs::create_dir_all(&dir).unwrap();
+        let csv = dir.join("sweep.csv");
+        std::fs::write(
+            &csv,
+            "h,width,dx,f\n0.1,0.5,0.02,1\n0.2,0.5,0.02,2\n0.1,0.5,0.01,3\n0.2,0.5,0.01,4\n\
+             0.1,1.5,0.02,5\n0.2,1.5,0.02,6\n0.1,1.5,0.01,7\n0.2,1.5,0.01,8\n",
+        )
+        .unwrap();
+        let plot = SweepPlot::parse("h:f:width+dx").unwrap();
+        let stem = draw(&csv, &plot, "test").unwrap();
+        let svg = std::fs::read_to_string(stem.with_extension("svg"))
+            .unwrap()
+            .to_uppercase();
+        let used: Vec<bool> = PALETTE
+            .iter()
+            .map(|(r, g, b)| svg.contains(&format!("#{r:02X}{g:02X}{b:02X}")))
+            .collect();
+        assert_eq!(used.iter().filter(|&&u| u).count(), 2, "{used:?}");
+        assert!(used[0] && used[1]);
     }
 }

@@ -22,7 +22,9 @@ pub mod vtk;
 
 pub use checkpoint::{read_checkpoint, write_checkpoint};
 pub use error::{IoError, Result};
-pub use plot::{heatmap, line_plot, scatter_with_identity, Field2d, PlotSpec, Series, SeriesStyle};
+pub use plot::{
+    heatmap, line_plot, scatter_with_identity, Field2d, PlotSpec, Series, SeriesStyle, PALETTE,
+};
 pub use series::{
     format_f64, read_table, units_path_for, write_grid_csv, SeriesWriter, Table, TableWriter,
 };

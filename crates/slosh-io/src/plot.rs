@@ -134,7 +134,7 @@ pub struct Field2d<'a> {
 }
 
 /// The built-in palette (Tableau 10), used in order for series without a colour.
-const PALETTE: [(u8, u8, u8); 10] = [
+pub const PALETTE: [(u8, u8, u8); 10] = [
     (31, 119, 180),
     (255, 127, 14),
     (44, 160, 44),
