@@ -522,6 +522,15 @@ impl Planned {
             expected,
         }
     }
+
+    /// The `--set NAME=VALUE` arguments of the case's run, as its checkpoint records them.
+    /// ParamValue's Display quotes strings, which `--set` strips: the text round-trips.
+    fn set_args(&self) -> Vec<String> {
+        self.values
+            .iter()
+            .map(|(name, value)| format!("{name}={value}"))
+            .collect()
+    }
 }
 
 /// The result of one case: its outcome and, when readable, its summary.
@@ -892,10 +901,7 @@ pub(crate) fn done_before(p: &Planned) -> Option<ReadSummary> {
 /// "running") was started with this case's `--set` arguments, and its checkpoint can be
 /// resumed (the script unchanged, the same program version).
 fn killed_with_same_sets(p: &Planned) -> bool {
-    slosh_case::checkpoint::RunRecord::read(&p.dir).is_ok_and(|record| {
-        let sets: Vec<String> = p.values.iter().map(|(k, v)| format!("{k}={v}")).collect();
-        record.sets == sets
-    })
+    slosh_case::checkpoint::RunRecord::read(&p.dir).is_ok_and(|record| record.sets == p.set_args())
 }
 
 /// Runs the planned cases of a sweep or an assessment (`what` names it in messages), at most
@@ -1142,9 +1148,8 @@ fn run_child(
         for dir in allow_read {
             cmd.arg("--allow-read").arg(dir);
         }
-        for (name, value) in &p.values {
-            // ParamValue's Display quotes strings, which --set strips: the text round-trips.
-            cmd.arg("--set").arg(format!("{name}={value}"));
+        for set in p.set_args() {
+            cmd.arg("--set").arg(set);
         }
     }
     // In a process group of its own, so that a terminal's Ctrl-C reaches the sweep only,
