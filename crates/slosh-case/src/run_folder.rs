@@ -6,7 +6,8 @@ use serde::Serialize;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// The lock file: it holds the process id of the run that writes the folder.
+/// The lock file: held under the operating system's lock by the run that writes the folder,
+/// and naming it (process id and host).
 pub const LOCK_FILE: &str = ".slosh.lock";
 
 /// Files and folders a run writes (and removes again before the next run in the same folder).
@@ -28,6 +29,8 @@ const KNOWN_FILES: [&str; 2] = ["run.log", LOCK_FILE];
 pub struct RunFolder {
     dir: PathBuf,
     lock: PathBuf,
+    /// The open lock file, locked until it is closed (after the path is removed).
+    _held: std::fs::File,
     case: String,
     script: String,
 }
@@ -69,10 +72,11 @@ impl RunFolder {
     /// Takes the lock of the existing folder `dir` and checks that it is a run folder.
     fn lock(dir: &Path, case: &str, script: &Path) -> Result<RunFolder> {
         let lock = dir.join(LOCK_FILE);
-        take_lock(&lock)?;
+        let held = take_lock(&lock)?;
         let folder = RunFolder {
             dir: dir.to_path_buf(),
             lock,
+            _held: held,
             case: case.to_string(),
             script: script.display().to_string(),
         };
@@ -108,58 +112,128 @@ impl RunFolder {
 
 impl Drop for RunFolder {
     fn drop(&mut self) {
+        // Removed while still locked; the lock ends when `_held` closes just after.
         let _ = std::fs::remove_file(&self.lock);
     }
 }
 
-/// Creates the lock file with this process's id; a lock left by a process that no longer
-/// runs is replaced, one held by a live process is an error naming it.
-fn take_lock(lock: &Path) -> Result<()> {
-    for _ in 0..2 {
-        match std::fs::OpenOptions::new()
+/// Takes the lock `lock` for this process: the file held under the operating system's
+/// exclusive advisory lock (`flock` on Unix, `LockFileEx` on Windows), which the system
+/// releases when the process ends in any way (also SIGKILL or a lost node's expired NFS
+/// lease), so a lock left behind is never mistaken for a live one, whatever process now has
+/// its pid, and a run on another node of a shared file system is seen. The file names the
+/// holder (pid and host) for the message of a refused run. On a file system without locks
+/// (ENOLCK, a Lustre mount without `flock`) the holder's pid alone decides, as a fallback.
+fn take_lock(lock: &Path) -> Result<std::fs::File> {
+    // A holder that ends removes the path while still locked; a run that opened the old file
+    // just before may lock it then: it finds the path gone or new, and opens again.
+    for _ in 0..3 {
+        let mut file = std::fs::OpenOptions::new()
+            .read(true)
             .write(true)
-            .create_new(true)
+            .create(true)
+            .truncate(false)
             .open(lock)
-        {
-            Ok(mut f) => {
-                write!(f, "{}", std::process::id())
-                    .with_context(|| format!("cannot write the lock {}", lock.display()))?;
-                return Ok(());
+            .with_context(|| {
+                format!(
+                    "cannot create the lock {} (is the folder writable?)",
+                    lock.display()
+                )
+            })?;
+        match file.try_lock() {
+            Ok(()) if !names_file(lock, &file) => continue,
+            Ok(()) => {
+                write_holder(&mut file, lock)?;
+                return Ok(file);
             }
-            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
-                let holder = std::fs::read_to_string(lock)
-                    .ok()
-                    .and_then(|t| t.trim().parse::<u32>().ok());
-                match holder {
-                    Some(pid) if process_alive(pid) && pid != std::process::id() => bail!(
-                        "{} is being written by another slosh run (pid {pid}); wait for it to \
-                         end, stop it, or choose another --out folder",
-                        lock.parent().unwrap_or(lock).display()
-                    ),
-                    _ => {
-                        // Stale: its process has ended (or the file is unreadable).
-                        let _ = std::fs::remove_file(lock);
+            Err(std::fs::TryLockError::WouldBlock) => {
+                let holder = std::fs::read_to_string(lock).unwrap_or_default();
+                bail!(
+                    "{} is being written by another slosh run ({}); wait for it to end, stop \
+                     it, or choose another --out folder",
+                    lock.parent().unwrap_or(lock).display(),
+                    describe_holder(&holder)
+                )
+            }
+            Err(std::fs::TryLockError::Error(_)) => {
+                let holder = std::fs::read_to_string(lock).unwrap_or_default();
+                if let Some(pid) = holder_pid(&holder) {
+                    if pid != std::process::id() && process_alive(pid) {
+                        bail!(
+                            "{} is being written by another slosh run ({}); wait for it to \
+                             end, stop it, or choose another --out folder",
+                            lock.parent().unwrap_or(lock).display(),
+                            describe_holder(&holder)
+                        )
                     }
                 }
-            }
-            Err(e) => {
-                return Err(e).with_context(|| {
-                    format!(
-                        "cannot create the lock {} (is the folder writable?)",
-                        lock.display()
-                    )
-                })
+                write_holder(&mut file, lock)?;
+                return Ok(file);
             }
         }
     }
     bail!(
-        "cannot take the lock {}: another run took it at the same moment",
+        "cannot take the lock {}: other runs took and released it at the same moment",
         lock.display()
     )
 }
 
+/// Writes this process's pid and host into the lock file, in place of an earlier holder's.
+fn write_holder(file: &mut std::fs::File, lock: &Path) -> Result<()> {
+    use std::io::Seek;
+    let text = match host_name() {
+        Some(host) => format!("{} {host}", std::process::id()),
+        None => std::process::id().to_string(),
+    };
+    file.set_len(0)
+        .and_then(|()| file.rewind())
+        .and_then(|()| file.write_all(text.as_bytes()))
+        .with_context(|| format!("cannot write the lock {}", lock.display()))
+}
+
+/// The pid of the lock file's text ("PID" or "PID HOST").
+fn holder_pid(text: &str) -> Option<u32> {
+    text.split_whitespace().next()?.parse().ok()
+}
+
+/// "pid N on HOST", "pid N", or "its pid not yet written" for a lock file's text.
+fn describe_holder(text: &str) -> String {
+    let mut words = text.split_whitespace();
+    match (holder_pid(text), words.nth(1)) {
+        (Some(pid), Some(host)) => format!("pid {pid} on {host}"),
+        (Some(pid), None) => format!("pid {pid}"),
+        (None, _) => "its pid not yet written".to_string(),
+    }
+}
+
+/// The machine's host name (Linux; `None` elsewhere), to tell the nodes of a cluster apart in
+/// a lock's message.
+fn host_name() -> Option<String> {
+    let name = std::fs::read_to_string("/proc/sys/kernel/hostname").ok()?;
+    let name = name.trim();
+    (!name.is_empty()).then(|| name.to_string())
+}
+
+/// Whether `path` still names the open `file` (Unix: the same device and inode; elsewhere
+/// a locked file cannot be removed, so it does).
+fn names_file(path: &Path, file: &std::fs::File) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (std::fs::metadata(path), file.metadata()) {
+            (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (path, file);
+        true
+    }
+}
+
 /// True when a process with this id runs (Linux: `/proc/<pid>` exists; elsewhere a lock is
-/// always taken as live, the safe side).
+/// always taken as live, the safe side); the fallback of file systems without locks.
 fn process_alive(pid: u32) -> bool {
     if cfg!(target_os = "linux") {
         Path::new(&format!("/proc/{pid}")).exists()
@@ -242,22 +316,33 @@ mod tests {
         assert!(d.join("run.log").exists());
         let s = std::fs::read_to_string(d.join("summary.ron")).unwrap();
         assert!(s.contains("status: \"running\""), "{s}");
-        // A second claim while this process holds it is refused only for another pid: fake
-        // a live holder with pid 1 (init always runs).
-        std::fs::write(d.join(LOCK_FILE), "1").unwrap();
+        // A second claim while the first holds the lock is refused, naming the holder (the
+        // system's lock conflicts between two opens of the file, even in one process).
         let err = RunFolder::claim(&d, "c", Path::new("c.rhai")).unwrap_err();
-        assert!(err.to_string().contains("pid 1"), "{err}");
+        let pid = format!("pid {}", std::process::id());
+        assert!(err.to_string().contains(&pid), "{err}");
         drop(claim);
         assert!(!d.join(LOCK_FILE).exists());
+        drop(RunFolder::claim(&d, "c", Path::new("c.rhai")).unwrap());
+    }
+
+    /// A lock file that no process holds is taken over whatever pid it names: one of a
+    /// process that has ended, and one whose pid a live process has since been given
+    /// (pid 1, init, always runs) — after a restart, a killed run's pid is often reused.
+    #[test]
+    fn a_lock_nobody_holds_is_taken_over_whatever_pid_it_names() {
+        let d = temp("unheld");
+        for text in ["99999999", "1", "1 another-node", ""] {
+            std::fs::write(d.join(LOCK_FILE), text).unwrap();
+            let claim = RunFolder::claim(&d, "c", Path::new("c.rhai")).unwrap();
+            let written = std::fs::read_to_string(d.join(LOCK_FILE)).unwrap();
+            assert_eq!(holder_pid(&written), Some(std::process::id()), "{written}");
+            drop(claim);
+        }
     }
 
     #[test]
-    fn stale_lock_is_taken_over_and_foreign_folder_refused() {
-        let d = temp("stale");
-        // A pid that cannot run (beyond the kernel's pid_max of 2^22).
-        std::fs::write(d.join(LOCK_FILE), "99999999").unwrap();
-        let claim = RunFolder::claim(&d, "c", Path::new("c.rhai")).unwrap();
-        drop(claim);
+    fn a_foreign_folder_is_refused_untouched() {
         let f = temp("foreign");
         std::fs::write(f.join("thesis.tex"), "mine").unwrap();
         let err = RunFolder::claim(&f, "c", Path::new("c.rhai")).unwrap_err();

@@ -239,14 +239,39 @@ fn locked_folder_is_refused_with_the_holder() {
     );
     let out = dir.join("out");
     std::fs::create_dir_all(&out).unwrap();
-    let mut holder = Command::new("sleep").arg("30").spawn().unwrap();
-    std::fs::write(out.join(".slosh.lock"), holder.id().to_string()).unwrap();
+    // Another process holds the lock as a run does: the system's lock on the file (util-linux
+    // `flock`, which keeps the shell's pid; `--close` keeps the lock from its child), its pid
+    // and host written in the file.
+    let lock = out.join(".slosh.lock");
+    let mut holder = Command::new("sh")
+        .arg("-c")
+        .arg("echo \"$$ other-node\" > .slosh.lock && exec flock --close .slosh.lock sleep 30")
+        .current_dir(&out)
+        .spawn()
+        .unwrap();
+    let held = |lock: &std::path::Path| {
+        !Command::new("flock")
+            .args(["--nonblock", "--conflict-exit-code", "9"])
+            .arg(lock)
+            .arg("true")
+            .status()
+            .unwrap()
+            .success()
+    };
+    let t0 = std::time::Instant::now();
+    while !held(&lock) && t0.elapsed().as_secs() < 20 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
     let (ok, err, _) = run(&c, &out);
     let _ = holder.kill();
     let _ = holder.wait();
     assert!(!ok);
-    assert!(err.contains(&format!("pid {}", holder.id())), "{err}");
-    // Once the holder is gone its lock is stale and the run takes the folder.
+    assert!(
+        err.contains(&format!("pid {} on other-node", holder.id())),
+        "{err}"
+    );
+    // Once the holder is gone its lock is released (its file stays) and the run takes the
+    // folder.
     let (ok, err, summary) = run(&c, &out);
     assert!(ok, "{err}");
     assert!(summary.contains("status: \"completed\""));
