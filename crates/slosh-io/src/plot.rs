@@ -317,23 +317,52 @@ struct XyFigure<'s, 'a> {
     identity: bool,
 }
 
+/// The size (px) at which `text` in the bundled font spans at most `room` px: `largest`, or
+/// smaller down to 12 px (`largest` where the font cannot be measured).
+fn fitted_size<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    text: &str,
+    largest: f64,
+    room: f64,
+) -> f64 {
+    let wide = area
+        .estimate_text_size(text, &(FONT, largest).into_font().color(&BLACK))
+        .map_or(0.0, |(w, _)| w as f64);
+    if wide > room {
+        (largest * room / wide).floor().max(12.0)
+    } else {
+        largest
+    }
+}
+
 /// The title's font: 26 px, smaller (down to 12 px) for a title wider than the figure, so
 /// that a long one is not cut at both ends.
 fn title_style<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     title: &str,
 ) -> TextStyle<'static> {
-    const LARGEST: f64 = 26.0;
     let room = 0.96 * root.dim_in_pixel().0 as f64;
-    let wide = root
-        .estimate_text_size(title, &(FONT, LARGEST).into_font().color(&BLACK))
-        .map_or(0.0, |(w, _)| w as f64);
-    let size = if wide > room {
-        (LARGEST * room / wide).floor().max(12.0)
-    } else {
-        LARGEST
-    };
-    (FONT, size).into_font().color(&BLACK)
+    (FONT, fitted_size(root, title, 26.0, room))
+        .into_font()
+        .color(&BLACK)
+}
+
+/// The axis descriptions' font size (px) for a chart on `area` with the label areas and
+/// margins of this module's charts: 19 px, smaller (down to 12 px) where a description is
+/// longer than its axis (a sweep plot's y axis naming several columns), so that it is not cut
+/// at the figure's edge.
+fn axis_desc_size<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    x_desc: &str,
+    y_desc: &str,
+) -> f64 {
+    const LARGEST: f64 = 19.0;
+    let (w, h) = area.dim_in_pixel();
+    // The axes' lengths: less the label areas (90 px y, 55 px x) and the margins (12 px, and
+    // 28 px right of an x-y chart).
+    let x_room = 0.95 * (w as f64 - 90.0 - 40.0);
+    let y_room = 0.95 * (h as f64 - 55.0 - 24.0);
+    fitted_size(area, x_desc, LARGEST, x_room).min(fitted_size(area, y_desc, LARGEST, y_room))
 }
 
 impl Figure for XyFigure<'_, '_> {
@@ -391,7 +420,10 @@ impl Figure for XyFigure<'_, '_> {
             .x_desc(self.spec.x_label.as_str())
             .y_desc(self.spec.y_label.as_str())
             .label_style((FONT, 16))
-            .axis_desc_style((FONT, 19))
+            .axis_desc_style((
+                FONT,
+                axis_desc_size(&area, &self.spec.x_label, &self.spec.y_label),
+            ))
             .x_label_formatter(&xfmt)
             .y_label_formatter(&yfmt)
             .light_line_style(RGBColor(235, 235, 235))
@@ -624,7 +656,10 @@ impl Figure for HeatFigure<'_, '_> {
             .x_desc(self.spec.x_label.as_str())
             .y_desc(self.spec.y_label.as_str())
             .label_style((FONT, 16))
-            .axis_desc_style((FONT, 19))
+            .axis_desc_style((
+                FONT,
+                axis_desc_size(&main, &self.spec.x_label, &self.spec.y_label),
+            ))
             .x_label_formatter(&xfmt)
             .y_label_formatter(&yfmt)
             .draw()
@@ -764,5 +799,26 @@ mod title_tests {
             .estimate_text_size(long, &title_style(&root, long))
             .unwrap();
         assert!(wide <= PNG_WIDTH, "{wide} px");
+    }
+
+    /// A y description longer than the y axis (a sweep plot of two columns) is set smaller
+    /// so that it spans the axis at most; a short one keeps 19 px.
+    #[test]
+    fn a_long_axis_description_shrinks_to_its_axis() {
+        assert!(ensure_font());
+        let mut pixels = vec![0u8; (PNG_WIDTH * PNG_HEIGHT * 3) as usize];
+        let root =
+            BitMapBackend::with_buffer(&mut pixels, (PNG_WIDTH, PNG_HEIGHT)).into_drawing_area();
+        let area = root.titled("t", title_style(&root, "t")).unwrap();
+        assert_eq!(axis_desc_size(&area, "time (s)", "eta_left (m)"), 19.0);
+        let long = "max_roof_force_up [N/m in 2D, N in 3D], max_roof_force_up_lp [N/m in 2D, N \
+                    in 3D]";
+        let size = axis_desc_size(&area, "post_clearance_ratio_actual", long);
+        assert!((12.0..19.0).contains(&size), "{size}");
+        let (tall, _) = area
+            .estimate_text_size(long, &(FONT, size).into_font().color(&BLACK))
+            .unwrap();
+        let axis = area.dim_in_pixel().1 - 55 - 24;
+        assert!(tall <= axis, "{tall} px on a {axis} px axis");
     }
 }
