@@ -774,51 +774,47 @@ pub fn heatmap(path: impl AsRef<Path>, spec: &PlotSpec, field: &Field2d) -> Resu
 mod title_tests {
     use super::*;
 
-    /// The title's font size on a figure of the files' size.
-    fn title_size(title: &str) -> f64 {
+    /// Runs `f` on a bitmap of the files' size, with the bundled font registered.
+    fn on_figure<R>(f: impl FnOnce(&DrawingArea<BitMapBackend, Shift>) -> R) -> R {
         assert!(ensure_font());
         let mut pixels = vec![0u8; (PNG_WIDTH * PNG_HEIGHT * 3) as usize];
         let root =
             BitMapBackend::with_buffer(&mut pixels, (PNG_WIDTH, PNG_HEIGHT)).into_drawing_area();
-        title_style(&root, title).font.get_size()
+        f(&root)
     }
 
     /// A short title keeps the full size; one wider than the figure at that size shrinks until
     /// it fits (the sweep plots' titles name the case, the columns and the groups).
     #[test]
     fn a_long_title_shrinks_to_the_figure() {
-        assert_eq!(title_size("Free decay"), 26.0);
         let long = "paper_2d_roof_sweep — plot_max_roof_force_up_vs_post_clearance_ratio_actual\
                     _by_width_dx";
-        let size = title_size(long);
-        assert!((12.0..26.0).contains(&size), "{size}");
-        let mut pixels = vec![0u8; (PNG_WIDTH * PNG_HEIGHT * 3) as usize];
-        let root =
-            BitMapBackend::with_buffer(&mut pixels, (PNG_WIDTH, PNG_HEIGHT)).into_drawing_area();
-        let (wide, _) = root
-            .estimate_text_size(long, &title_style(&root, long))
-            .unwrap();
-        assert!(wide <= PNG_WIDTH, "{wide} px");
+        on_figure(|root| {
+            assert_eq!(title_style(root, "Free decay").font.get_size(), 26.0);
+            let style = title_style(root, long);
+            let size = style.font.get_size();
+            assert!((12.0..26.0).contains(&size), "{size}");
+            let (wide, _) = root.estimate_text_size(long, &style).unwrap();
+            assert!(wide <= PNG_WIDTH, "{wide} px");
+        });
     }
 
     /// A y description longer than the y axis (a sweep plot of two columns) is set smaller
     /// so that it spans the axis at most; a short one keeps 19 px.
     #[test]
     fn a_long_axis_description_shrinks_to_its_axis() {
-        assert!(ensure_font());
-        let mut pixels = vec![0u8; (PNG_WIDTH * PNG_HEIGHT * 3) as usize];
-        let root =
-            BitMapBackend::with_buffer(&mut pixels, (PNG_WIDTH, PNG_HEIGHT)).into_drawing_area();
-        let area = root.titled("t", title_style(&root, "t")).unwrap();
-        assert_eq!(axis_desc_size(&area, "time (s)", "eta_left (m)"), 19.0);
         let long = "max_roof_force_up [N/m in 2D, N in 3D], max_roof_force_up_lp [N/m in 2D, N \
                     in 3D]";
-        let size = axis_desc_size(&area, "post_clearance_ratio_actual", long);
-        assert!((12.0..19.0).contains(&size), "{size}");
-        let (tall, _) = area
-            .estimate_text_size(long, &(FONT, size).into_font().color(&BLACK))
-            .unwrap();
-        let axis = area.dim_in_pixel().1 - 55 - 24;
-        assert!(tall <= axis, "{tall} px on a {axis} px axis");
+        on_figure(|root| {
+            let area = root.titled("t", title_style(root, "t")).unwrap();
+            assert_eq!(axis_desc_size(&area, "time (s)", "eta_left (m)"), 19.0);
+            let size = axis_desc_size(&area, "post_clearance_ratio_actual", long);
+            assert!((12.0..19.0).contains(&size), "{size}");
+            let (tall, _) = area
+                .estimate_text_size(long, &(FONT, size).into_font().color(&BLACK))
+                .unwrap();
+            let axis = area.dim_in_pixel().1 - 55 - 24;
+            assert!(tall <= axis, "{tall} px on a {axis} px axis");
+        });
     }
 }
