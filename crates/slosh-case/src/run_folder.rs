@@ -146,26 +146,13 @@ fn take_lock(lock: &Path) -> Result<std::fs::File> {
                 write_holder(&mut file, lock)?;
                 return Ok(file);
             }
-            Err(std::fs::TryLockError::WouldBlock) => {
-                let holder = std::fs::read_to_string(lock).unwrap_or_default();
-                bail!(
-                    "{} is being written by another slosh run ({}); wait for it to end, stop \
-                     it, or choose another --out folder",
-                    lock.parent().unwrap_or(lock).display(),
-                    describe_holder(&holder)
-                )
-            }
+            Err(std::fs::TryLockError::WouldBlock) => return Err(busy(lock)),
             Err(std::fs::TryLockError::Error(_)) => {
                 let holder = std::fs::read_to_string(lock).unwrap_or_default();
-                if let Some(pid) = holder_pid(&holder) {
-                    if pid != std::process::id() && process_alive(pid) {
-                        bail!(
-                            "{} is being written by another slosh run ({}); wait for it to \
-                             end, stop it, or choose another --out folder",
-                            lock.parent().unwrap_or(lock).display(),
-                            describe_holder(&holder)
-                        )
-                    }
+                if holder_pid(&holder)
+                    .is_some_and(|pid| pid != std::process::id() && process_alive(pid))
+                {
+                    return Err(busy(lock));
                 }
                 write_holder(&mut file, lock)?;
                 return Ok(file);
@@ -175,6 +162,17 @@ fn take_lock(lock: &Path) -> Result<std::fs::File> {
     bail!(
         "cannot take the lock {}: other runs took and released it at the same moment",
         lock.display()
+    )
+}
+
+/// The error of a folder whose lock `lock` another run holds, naming it.
+fn busy(lock: &Path) -> anyhow::Error {
+    let holder = std::fs::read_to_string(lock).unwrap_or_default();
+    anyhow::anyhow!(
+        "{} is being written by another slosh run ({}); wait for it to end, stop it, or choose \
+         another --out folder",
+        lock.parent().unwrap_or(lock).display(),
+        describe_holder(&holder)
     )
 }
 
