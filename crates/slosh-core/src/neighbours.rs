@@ -588,7 +588,7 @@ mod tests {
         let q2 = random_points::<2>(300, 1.0, 11);
         check(p2, &q2, radius);
         let p3 = random_points::<3>(4000, 1.0, 13);
-        let q3 = random_points::<3>(200, 1.0, 17);
+        let q3 = random_points::<3>(2000, 1.0, 17);
         check(p3, &q3, 0.12);
         // A lattice of spacing 0.02 queried at its own points.
         let lattice: Vec<SVector<f64, 2>> = (0..50)
@@ -600,5 +600,41 @@ mod tests {
             .collect();
         let queries: Vec<SVector<f64, 2>> = lattice.iter().step_by(7).copied().collect();
         check(lattice, &queries, radius);
+        // A 3D lattice of spacing 0.03 (a support of 4 spacings, 0.12 m, ties at every cell
+        // border) queried at its own points.
+        let lattice: Vec<SVector<f64, 3>> = (0..30 * 30 * 30)
+            .map(|n| {
+                SVector::<f64, 3>::new(
+                    0.015 + 0.03 * (n % 30) as f64,
+                    0.015 + 0.03 * (n / 30 % 30) as f64,
+                    0.015 + 0.03 * (n / 900) as f64,
+                )
+            })
+            .collect();
+        let queries: Vec<SVector<f64, 3>> = lattice.iter().step_by(97).copied().collect();
+        check(lattice, &queries, 0.12);
+    }
+
+    /// Points outside the grid's box (a run about to stop) sit in its border cells: the
+    /// search still finds every neighbour, of points inside and outside alike.
+    #[test]
+    fn points_outside_the_box_keep_their_neighbours() {
+        let shift = |v: SVector<f64, 3>| v * 1.6 - SVector::<f64, 3>::from_element(0.3);
+        let points: Vec<SVector<f64, 3>> = random_points::<3>(6000, 1.0, 29)
+            .into_iter()
+            .map(shift)
+            .collect();
+        let queries: Vec<SVector<f64, 3>> = random_points::<3>(2000, 1.0, 31)
+            .into_iter()
+            .map(shift)
+            .collect();
+        assert!(
+            points
+                .iter()
+                .filter(|p| p.min() < -0.1 || p.max() > 1.1)
+                .count()
+                > 1000
+        );
+        check(points, &queries, 0.12);
     }
 }
