@@ -317,6 +317,15 @@ struct XyFigure<'s, 'a> {
     identity: bool,
 }
 
+/// Margin round the charts of the x-y plots and maps (px).
+const CHART_MARGIN: u32 = 12;
+/// Right margin of an x-y chart (px), room for the last tick label.
+const XY_MARGIN_RIGHT: u32 = 28;
+/// Height of the x tick labels and description below a chart (px).
+const X_LABEL_AREA: u32 = 55;
+/// Width of the y tick labels and description left of a chart (px).
+const Y_LABEL_AREA: u32 = 90;
+
 /// The size (px) at which `text` in the bundled font spans at most `room` px: `largest`, or
 /// smaller down to 12 px (`largest` where the font cannot be measured).
 fn fitted_size<DB: DrawingBackend>(
@@ -358,10 +367,10 @@ fn axis_desc_size<DB: DrawingBackend>(
 ) -> f64 {
     const LARGEST: f64 = 19.0;
     let (w, h) = area.dim_in_pixel();
-    // The axes' lengths: less the label areas (90 px y, 55 px x) and the margins (12 px, and
-    // 28 px right of an x-y chart).
-    let x_room = 0.95 * (w as f64 - 90.0 - 40.0);
-    let y_room = 0.95 * (h as f64 - 55.0 - 24.0);
+    // The axes' lengths: less the label areas and the margins (the wider right margin of an
+    // x-y chart for both kinds).
+    let x_room = 0.95 * (w as f64 - (Y_LABEL_AREA + CHART_MARGIN + XY_MARGIN_RIGHT) as f64);
+    let y_room = 0.95 * (h as f64 - (X_LABEL_AREA + 2 * CHART_MARGIN) as f64);
     fitted_size(area, x_desc, LARGEST, x_room).min(fitted_size(area, y_desc, LARGEST, y_room))
 }
 
@@ -409,10 +418,10 @@ impl Figure for XyFigure<'_, '_> {
             .titled(&title, title_style(root, &title))
             .map_err(err_string)?;
         let mut chart = ChartBuilder::on(&area)
-            .margin(12)
-            .margin_right(28)
-            .x_label_area_size(55)
-            .y_label_area_size(90)
+            .margin(CHART_MARGIN)
+            .margin_right(XY_MARGIN_RIGHT)
+            .x_label_area_size(X_LABEL_AREA)
+            .y_label_area_size(Y_LABEL_AREA)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(err_string)?;
         chart
@@ -645,9 +654,9 @@ impl Figure for HeatFigure<'_, '_> {
         let (main, bar) = area.split_horizontally(w.saturating_sub(135));
 
         let mut chart = ChartBuilder::on(&main)
-            .margin(12)
-            .x_label_area_size(55)
-            .y_label_area_size(90)
+            .margin(CHART_MARGIN)
+            .x_label_area_size(X_LABEL_AREA)
+            .y_label_area_size(Y_LABEL_AREA)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(err_string)?;
         chart
@@ -695,7 +704,7 @@ impl Figure for HeatFigure<'_, '_> {
             .margin_bottom(12)
             .margin_left(10)
             .margin_right(5)
-            .x_label_area_size(55)
+            .x_label_area_size(X_LABEL_AREA)
             .right_y_label_area_size(85)
             .build_cartesian_2d(0.0..1.0, v0..v1)
             .map_err(err_string)?;
@@ -813,7 +822,7 @@ mod title_tests {
             let (tall, _) = area
                 .estimate_text_size(long, &(FONT, size).into_font().color(&BLACK))
                 .unwrap();
-            let axis = area.dim_in_pixel().1 - 55 - 24;
+            let axis = area.dim_in_pixel().1 - X_LABEL_AREA - 2 * CHART_MARGIN;
             assert!(tall <= axis, "{tall} px on a {axis} px axis");
         });
     }
