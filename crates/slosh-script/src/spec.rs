@@ -8,7 +8,7 @@ use slosh_core::{
     WallPressureMethod,
 };
 use slosh_geometry::{
-    bounding_box_2d, InitialSurface, InternalSolid, RectPiece, SectionRoof, SectionShape,
+    bounding_box_2d, InitialSurface, InternalSolid, RectPiece, Roof, SectionRoof, SectionShape,
     SectionTank2, Solid2, Solid2Shape, SolidShape, TankMesh,
 };
 use std::collections::BTreeSet;
@@ -241,8 +241,9 @@ pub enum TankSpec {
         /// Internal solids (columns, rings, blocks).
         #[serde(skip_serializing_if = "Vec::is_empty")]
         solids: Vec<InternalSolid>,
-        /// Layout of the liquid and shell particles: `"cubic"` (the lattice, default) or
-        /// `"polar"` (rings about the axis, fitted to the shell).
+        /// Layout of the liquid and shell particles: `"cubic"` (the lattice of every tank) or
+        /// `"polar"` (rings about the axis, fitted to the shell; a script's default where it
+        /// applies). Absent from a written case: cubic.
         #[serde(skip_serializing_if = "is_cubic")]
         lattice: String,
     },
@@ -678,11 +679,23 @@ fn is_cubic(lattice: &str) -> bool {
     lattice == "cubic"
 }
 
-/// Reads a cylinder's `lattice` ("cubic" by default, or "polar").
-fn cylinder_lattice(r: &mut MapReader) -> Result<String, String> {
+/// Reads a cylinder's `lattice`, "cubic" or "polar". Left out, it is "polar" (liquid and shell
+/// on rings fitted to the shell, which damps the first mode least; README, *3D tanks*) where
+/// that lattice applies — a built-in roof and no internal solids — and "cubic" otherwise.
+fn cylinder_lattice(
+    r: &mut MapReader,
+    roof: &str,
+    solids: &[InternalSolid],
+) -> Result<String, String> {
+    let polar_applies = solids.is_empty()
+        && matches!(
+            Roof::from_name(roof, 0.0),
+            Some(Roof::None | Roof::Flat | Roof::Cone { .. } | Roof::Dome { .. })
+        );
+    let default = if polar_applies { "polar" } else { "cubic" };
     r.choice_or(
         "lattice",
-        "cubic",
+        default,
         &[(&["cubic"], "cubic"), (&["polar"], "polar")],
     )
     .map(str::to_string)
@@ -1140,17 +1153,28 @@ impl TankSpec {
                 parts: Vec::new(),
                 arc_parts: read_arc_parts(&mut r)?,
             },
-            "cylinder" => TankSpec::Cylinder {
-                radius: r.f64_or("radius", 0.5)?,
-                height: r.f64_or("height", 0.6)?,
-                depth: r.f64_or("depth", 0.5)?,
-                roof: r.str_or("roof", "flat")?,
-                roof_rise: r.f64_or("roof_rise", 0.1)?,
-                tilt: r.f64_or("tilt", 0.0)?,
-                tilt_shape: tilt_shape(&mut r)?,
-                solids: read_solids_3d(&mut r)?,
-                lattice: cylinder_lattice(&mut r)?,
-            },
+            "cylinder" => {
+                let (radius, height, depth) = (
+                    r.f64_or("radius", 0.5)?,
+                    r.f64_or("height", 0.6)?,
+                    r.f64_or("depth", 0.5)?,
+                );
+                let (roof, roof_rise) = (r.str_or("roof", "flat")?, r.f64_or("roof_rise", 0.1)?);
+                let (tilt, tilt_shape) = (r.f64_or("tilt", 0.0)?, tilt_shape(&mut r)?);
+                let solids = read_solids_3d(&mut r)?;
+                let lattice = cylinder_lattice(&mut r, &roof, &solids)?;
+                TankSpec::Cylinder {
+                    radius,
+                    height,
+                    depth,
+                    roof,
+                    roof_rise,
+                    tilt,
+                    tilt_shape,
+                    solids,
+                    lattice,
+                }
+            }
             "box" => TankSpec::Box {
                 length: r.f64_or("length", 1.0)?,
                 breadth: r.f64_or("breadth", 0.1)?,
@@ -1631,6 +1655,46 @@ mod tests {
         );
         let err = numerics(&[("scheme", "dualsphysics".into())]).unwrap_err();
         assert!(err.contains("(use \"paper\" or \"modern\")"), "{err}");
+    }
+
+    /// A cylinder's lattice left out is the polar one where it applies (built-in roof, no
+    /// solids) and the cubic one for a mesh roof or solids; one named is kept.
+    #[test]
+    fn a_cylinder_takes_the_polar_lattice_where_it_applies() {
+        let lattice = |extra: &[(&str, Dynamic)]| {
+            let mut map = Map::new();
+            map.insert("shape".into(), "cylinder".into());
+            for (k, v) in extra {
+                map.insert((*k).into(), v.clone());
+            }
+            match TankSpec::from_map(&map).unwrap() {
+                TankSpec::Cylinder { lattice, .. } => lattice,
+                other => panic!("not a cylinder: {other:?}"),
+            }
+        };
+        assert_eq!(lattice(&[]), "polar");
+        for roof in ["none", "flat", "cone", "dome"] {
+            assert_eq!(lattice(&[("roof", roof.into())]), "polar", "{roof}");
+        }
+        assert_eq!(lattice(&[("roof", "roof.obj".into())]), "cubic");
+        let mut column = Map::new();
+        for (k, v) in [
+            ("name", Dynamic::from("column")),
+            ("shape", "column".into()),
+            (
+                "centre",
+                Dynamic::from(vec![Dynamic::from(0.0), Dynamic::from(0.0)]),
+            ),
+            ("radius", 0.05.into()),
+            ("bottom", 0.0.into()),
+            ("top", 0.6.into()),
+        ] {
+            column.insert(k.into(), v);
+        }
+        let solids = Dynamic::from(vec![Dynamic::from(column)]);
+        assert_eq!(lattice(&[("solids", solids)]), "cubic");
+        assert_eq!(lattice(&[("lattice", "cubic".into())]), "cubic");
+        assert_eq!(lattice(&[("lattice", "polar".into())]), "polar");
     }
 
     #[test]
