@@ -59,3 +59,27 @@ pub struct ParticleSetup<const D: usize> {
     /// The interior region, used to count the fluid particles still inside the tank.
     pub interior: Box<dyn TankInterior<D>>,
 }
+
+impl<const D: usize> ParticleSetup<D> {
+    /// Keeps the wall particles for which `keep(position, part)` is true, with their tags
+    /// (part, normal, area, layer) and in their order; drops the rest.
+    pub fn retain_walls(&mut self, mut keep: impl FnMut(&SVector<f64, D>, u16) -> bool) {
+        let mut kept = 0;
+        for w in 0..self.wall_positions.len() {
+            if !keep(&self.wall_positions[w], self.wall_part[w]) {
+                continue;
+            }
+            self.wall_positions[kept] = self.wall_positions[w];
+            self.wall_part[kept] = self.wall_part[w];
+            self.wall_normal[kept] = self.wall_normal[w];
+            self.wall_area[kept] = self.wall_area[w];
+            self.wall_layer[kept] = self.wall_layer[w];
+            kept += 1;
+        }
+        self.wall_positions.truncate(kept);
+        self.wall_part.truncate(kept);
+        self.wall_normal.truncate(kept);
+        self.wall_area.truncate(kept);
+        self.wall_layer.truncate(kept);
+    }
+}

@@ -629,28 +629,13 @@ impl CylinderTank {
         // Shell: drop the cubic wall particles beside it, then add the rings.
         let beside_shell =
             |p: &Vector3<f64>| p.z > 0.0 && p.z < h && (p.x * p.x + p.y * p.y).sqrt() > r;
-        let mut kept = 0;
-        for w in 0..setup.wall_positions.len() {
-            if beside_shell(&setup.wall_positions[w]) {
-                continue;
+        setup.retain_walls(|p, _| !beside_shell(p));
+        // The shell's area goes to the rings alone.
+        for (a, part) in setup.wall_area.iter_mut().zip(&setup.wall_part) {
+            if *part == wall_part {
+                *a = 0.0;
             }
-            setup.wall_positions[kept] = setup.wall_positions[w];
-            setup.wall_part[kept] = setup.wall_part[w];
-            setup.wall_normal[kept] = setup.wall_normal[w];
-            setup.wall_layer[kept] = setup.wall_layer[w];
-            // The shell's area goes to the rings alone.
-            setup.wall_area[kept] = if setup.wall_part[w] == wall_part {
-                0.0
-            } else {
-                setup.wall_area[w]
-            };
-            kept += 1;
         }
-        setup.wall_positions.truncate(kept);
-        setup.wall_part.truncate(kept);
-        setup.wall_normal.truncate(kept);
-        setup.wall_layer.truncate(kept);
-        setup.wall_area.truncate(kept);
         let first_ring = setup.wall_positions.len();
         let rows = (0..).map(|j| (j as f64 + 0.5) * dx).take_while(|z| *z < h);
         for z in rows {
