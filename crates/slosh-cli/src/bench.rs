@@ -190,10 +190,12 @@ pub struct BenchRow {
     /// Wall time per simulated second (s/s): what a run of the case costs per second of
     /// ground motion at this throughput.
     pub wall_s_per_simulated_s: f64,
+    /// Smoothing length over particle spacing h/dx of the timed scheme.
+    pub h_over_dx: f64,
 }
 
 /// Columns of `bench.csv`, in order.
-pub const CSV_COLUMNS: [&str; 30] = [
+pub const CSV_COLUMNS: [&str; 31] = [
     "case",
     "dim",
     "particles",
@@ -224,13 +226,14 @@ pub const CSV_COLUMNS: [&str; 30] = [
     "median_block_particle_steps_per_s",
     "scheme",
     "wall_s_per_simulated_s",
+    "h_over_dx",
 ];
 
 impl BenchRow {
     fn csv_line(&self) -> String {
         let s = &self.shares;
         format!(
-            "{},{},{},{},{:.0},{:.1},{},{},{},{},{:.4},{:.0},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.1},{:.1},{:.1},{:.3},{:.0},{:.2},{},{},{:.0},{},{:.2}",
+            "{},{},{},{},{:.0},{:.1},{},{},{},{},{:.4},{:.0},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.1},{:.1},{:.1},{:.3},{:.0},{:.2},{},{},{:.0},{},{:.2},{}",
             self.case,
             self.dim,
             self.particles,
@@ -261,6 +264,7 @@ impl BenchRow {
             self.median_block_particle_steps_per_s,
             self.scheme,
             self.wall_s_per_simulated_s,
+            self.h_over_dx,
         )
     }
 }
@@ -276,13 +280,16 @@ pub struct BenchConfig {
     /// With `modern`: the Riemann-solver pair of Zhang, Hu & Adams 2017 in place of Eq. 8
     /// (`pair_scheme: "riemann"`).
     pub riemann: bool,
+    /// Smoothing length over particle spacing h/dx in place of the preset's (paper 1.3,
+    /// modern 2.0); the wall layers follow it as in a run.
+    pub h_over_dx: Option<f64>,
     /// Print the table and the checks.
     pub verbose: bool,
 }
 
-/// `slosh bench [--quick] [--out DIR] [--threads 1,2] [--case NAME,..] [--scheme S]`: runs the
-/// fixed cases (those named by `--case` only) with the paper or the modern scheme, prints a
-/// table and the issue-8 checks, writes
+/// `slosh bench [--quick] [--out DIR] [--threads 1,2] [--case NAME,..] [--scheme S]
+/// [--h-over-dx R]`: runs the fixed cases (those named by `--case` only) with the paper or the
+/// modern scheme, prints a table and the throughput and memory checks, writes
 /// `DIR/bench.csv` (default `out/bench`). Always succeeds when the runs complete: the checks
 /// report, they do not fail the command.
 pub fn cli_bench(
@@ -291,7 +298,13 @@ pub fn cli_bench(
     threads_list: Option<Vec<usize>>,
     only_cases: Option<Vec<String>>,
     scheme: &str,
+    h_over_dx: Option<f64>,
 ) -> Result<()> {
+    if let Some(r) = h_over_dx {
+        if !(r.is_finite() && r > 0.0) {
+            bail!("--h-over-dx takes the smoothing length over the particle spacing, a number > 0 (e.g. 1.5), not {r}");
+        }
+    }
     let (modern, riemann) = match scheme {
         "paper" => (false, false),
         "modern" => (true, false),
@@ -319,12 +332,14 @@ pub fn cli_bench(
         threads,
         modern,
         riemann,
+        h_over_dx,
         verbose: true,
     };
     println!(
-        "slosh bench{}: {} cases, {scheme} scheme, threads {:?} (machine: {machine}), load average {}",
+        "slosh bench{}: {} cases, {scheme} scheme{}, threads {:?} (machine: {machine}), load average {}",
         if quick { " --quick" } else { "" },
         cases.len(),
+        h_over_dx.map_or(String::new(), |r| format!(" with h = {r} dx")),
         config.threads,
         load_avg_line()
     );
@@ -615,8 +630,10 @@ fn run_case<const D: usize>(
     };
     let params = SphParams {
         neighbour_backend: backend,
+        smoothing_ratio: config.h_over_dx.unwrap_or(base.smoothing_ratio),
         ..base
     };
+    let h_over_dx = params.smoothing_ratio;
     let mut sim = pools[0].install(|| -> Result<Simulation<D>> {
         let mut sim = Simulation::new(build(params.wall_layers())?, params)?;
         advance(&mut sim, WARMUP_STEPS)?;
@@ -719,6 +736,7 @@ fn run_case<const D: usize>(
             load_avg: load_avg_1m(),
             version: version.to_string(),
             wall_s_per_simulated_s: wall_s / sim_s,
+            h_over_dx,
         };
         rows.push(row);
     }
@@ -898,7 +916,7 @@ fn verdict(ok: bool) -> &'static str {
     }
 }
 
-/// Prints the issue-8 targets as measured (default backend, most threads).
+/// Prints the project's throughput and memory targets as measured (default backend, most threads).
 pub fn print_checks(rows: &[BenchRow], quick: bool) {
     let default = backend_name(SphParams::default().neighbour_backend);
     let max_threads = rows.iter().map(|r| r.threads).max().unwrap_or(1);
@@ -1092,6 +1110,7 @@ mod tests {
             threads: vec![2, 1],
             modern: false,
             riemann: false,
+            h_over_dx: None,
             verbose: false,
         };
         let rows = run_bench(&[case], &config, &out).unwrap();
@@ -1126,11 +1145,13 @@ mod tests {
         assert!(col("particle_steps_per_s").parse::<f64>().unwrap() > 0.0);
         assert!(col("bytes_per_particle").parse::<f64>().unwrap() > 100.0);
         assert_eq!(col("scheme"), "paper");
-        // The modern preset times too.
+        assert_eq!(col("h_over_dx"), "1.3");
+        // The modern preset times too, here with the kernel width given.
         let modern = BenchConfig {
             threads: vec![1],
             modern: true,
             riemann: false,
+            h_over_dx: Some(1.5),
             verbose: false,
         };
         let case = BenchCase {
@@ -1143,6 +1164,7 @@ mod tests {
         let rows = run_bench(&[case], &modern, &out).unwrap();
         let _ = std::fs::remove_dir_all(&out);
         assert_eq!(rows[0].scheme, "modern");
+        assert_eq!(rows[0].h_over_dx, 1.5);
         assert!(rows[0].particle_steps_per_s > 0.0);
     }
 

@@ -63,6 +63,10 @@ struct BenchArgs {
     /// bench_gpu.csv).
     #[arg(long, value_parser = slosh_core::Backend::NAMES, default_value = "cpu")]
     backend: String,
+    /// Smoothing length over particle spacing h/dx in place of the scheme's (paper 1.3,
+    /// modern 2.0), e.g. 1.5 to time the modern preset's former kernel width (CPU only).
+    #[arg(long)]
+    h_over_dx: Option<f64>,
 }
 
 #[derive(Args)]
@@ -300,7 +304,12 @@ fn main() -> ExitCode {
         Command::Theory(args) => cmd_theory(args),
         Command::Bench(args) => {
             let backend = slosh_core::Backend::from_name(&args.backend).unwrap_or_default();
-            if backend != slosh_core::Backend::Cpu {
+            if backend != slosh_core::Backend::Cpu && args.h_over_dx.is_some() {
+                Err(anyhow::anyhow!(
+                    "--h-over-dx is for the CPU bench; the GPU bench times the modern preset \
+                     as it is"
+                ))
+            } else if backend != slosh_core::Backend::Cpu {
                 slosh_cli::bench::cli_bench_gpu(args.quick, args.out, args.case, backend)
             } else {
                 slosh_cli::bench::cli_bench(
@@ -309,6 +318,7 @@ fn main() -> ExitCode {
                     args.threads,
                     args.case,
                     &args.scheme,
+                    args.h_over_dx,
                 )
             }
         }
