@@ -374,6 +374,13 @@ pub enum CylinderLattice {
 }
 
 impl CylinderLattice {
+    /// True when the polar lattice can lay out a cylinder with this roof and, with
+    /// `has_solids`, internal solids: a built-in roof (rings fit its analytic shell) and no
+    /// solids (their walls stand on the cubic lattice).
+    pub fn polar_fits(roof: &Roof, has_solids: bool) -> bool {
+        !matches!(roof, Roof::Mesh(_)) && !has_solids
+    }
+
     /// Parses a script's `lattice`: `"cubic"` or `"polar"`.
     pub fn from_name(name: &str) -> Option<CylinderLattice> {
         match name.trim().to_ascii_lowercase().as_str() {

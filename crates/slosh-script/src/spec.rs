@@ -8,8 +8,8 @@ use slosh_core::{
     WallPressureMethod,
 };
 use slosh_geometry::{
-    bounding_box_2d, InitialSurface, InternalSolid, RectPiece, Roof, SectionRoof, SectionShape,
-    SectionTank2, Solid2, Solid2Shape, SolidShape, TankMesh,
+    bounding_box_2d, CylinderLattice, InitialSurface, InternalSolid, RectPiece, Roof, SectionRoof,
+    SectionShape, SectionTank2, Solid2, Solid2Shape, SolidShape, TankMesh,
 };
 use std::collections::BTreeSet;
 
@@ -687,11 +687,8 @@ fn cylinder_lattice(
     roof: &str,
     solids: &[InternalSolid],
 ) -> Result<String, String> {
-    let polar_applies = solids.is_empty()
-        && matches!(
-            Roof::from_name(roof, 0.0),
-            Some(Roof::None | Roof::Flat | Roof::Cone { .. } | Roof::Dome { .. })
-        );
+    let polar_applies = Roof::from_name(roof, 0.0)
+        .is_some_and(|roof| CylinderLattice::polar_fits(&roof, !solids.is_empty()));
     let default = if polar_applies { "polar" } else { "cubic" };
     r.choice_or(
         "lattice",
