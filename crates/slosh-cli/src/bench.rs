@@ -835,36 +835,16 @@ impl SolverBytes {
 
         let (n, nw) = (f.position.len(), w.position.len());
         let scratch = n * (vec + 8 + size_of::<Tensor<D>>() + 4 + 4 + 8) + nw * 8;
-        // Grid cells as CellGrid::new sizes them: the particles' bounding box widened by two
-        // supports, plus the tank height above (room for splashes), cells of one support.
-        let support = sim.kernel().support();
-        let (lo, hi) = sim.interior_bounds();
-        let depth = sim.fill_level() - lo[D - 1];
-        let (mut bmin, mut bmax) = (lo, hi);
-        for p in w.position.iter().chain(&f.position) {
-            for k in 0..D {
-                bmin[k] = bmin[k].min(p[k]);
-                bmax[k] = bmax[k].max(p[k]);
-            }
-        }
-        let mut cells = 1usize;
-        for k in 0..D {
-            let mut ext = bmax[k] - bmin[k] + 4.0 * support;
-            if k == D - 1 {
-                ext += (hi[k] - lo[k]).max(depth);
-            }
-            cells *= ((ext / support).ceil() as usize).max(1) + 1;
-        }
-        let sort_grid = 2 * (cells + 1) * 4 + cells + n * 8;
+        // The cell grids are counted exactly by `grid_bytes`; the k-d trees are estimated.
         let search = match sim.params().neighbour_backend {
-            NeighbourBackend::CellGrid => 2 * (cells + 1) * 4 + cells + n * 8 + nw * 4,
+            NeighbourBackend::CellGrid => 0,
             // ImmutableKdTree<f64, D>: D coordinates + u32 item per point, plus the fluid
             // tree's scratch copy of the positions.
             NeighbourBackend::KdTree => (n + nw) * (vec + 4) + n * vec,
         };
         SolverBytes {
             reachable,
-            private: scratch + sort_grid + search + sim.sweep_buffer_bytes(),
+            private: scratch + sim.grid_bytes() + search + sim.sweep_buffer_bytes(),
         }
     }
 }

@@ -148,6 +148,18 @@ impl<const D: usize> CellGrid<D> {
         }
     }
 
+    /// Bytes of the grid's arrays (their capacities): cell starts and entries of the fluid
+    /// and the walls, the per-cell wall flags and the fluid's cell scratch.
+    pub fn heap_bytes(&self) -> usize {
+        (self.fluid_cell_start.capacity()
+            + self.fluid_entries.capacity()
+            + self.wall_cell_start.capacity()
+            + self.wall_entries.capacity()
+            + self.fluid_cell.capacity())
+            * size_of::<u32>()
+            + self.wall_near.capacity() * size_of::<bool>()
+    }
+
     /// Number of cells along each space axis.
     pub fn dims(&self) -> [usize; D] {
         let mut dims = [0; D];

@@ -648,6 +648,16 @@ impl<const D: usize> Simulation<D> {
             + self.blocks.capacity() * 4
             + self.scratch_vec2.capacity() * size_of::<Vector<D>>()
     }
+    /// Bytes of the cell grids of the neighbour search (capacities): the grid that sorts the
+    /// fluid and, when the run searches on a grid, the search grid; the k-d trees of
+    /// [`NeighbourBackend::KdTree`] are not counted.
+    pub fn grid_bytes(&self) -> usize {
+        let search = match &self.search {
+            Search::Grid(grid) => grid.heap_bytes(),
+            Search::KdTree(_) => 0,
+        };
+        search + self.sort_grid.heap_bytes()
+    }
     /// The wall particles.
     pub fn walls(&self) -> &Walls<D> {
         &self.walls
