@@ -839,12 +839,14 @@ pub(crate) fn free_decay_with(
 const CYLINDER: (f64, f64) = (0.5, 0.5);
 /// Its resolutions, particles per depth (here also per radius).
 const CYLINDER_LEVELS: [usize; 2] = [15, 20];
-/// The finer levels (≈ 0.1 and 0.3 million particles, 1.5 and ≈ 4 hours on 2 cores): a
-/// stage each, whose runs checkpoint and resume.
+/// The finer levels (≈ 0.1 and 0.3 million particles, ≈ 1.5 and ≈ 3.4 hours alone on 2
+/// cores): a stage each, whose runs checkpoint and resume.
 pub const CYLINDER_FINE_LEVELS: [usize; 2] = [30, 40];
 /// What is known of the cylinder's damping beyond the 2D tanks' at the same resolution.
 const CYLINDER_GAP: &str = "on the polar lattice the cylinder damps by ζ = 0.35 % at 15, \
-    0.16 % at 20 and 0.14 % at 30 per depth; on the cubic lattice, whose staircase at the curved shell the first \
+    0.16 % at 20 and 0.14 % at 30 per depth over 8 crests; at 40 only the first 4 crests are \
+    read (0.085 %, where the same 4 crests give 0.145 % at 15 and 0.022 % at 20); on the cubic \
+    lattice, whose staircase at the curved shell the first \
     mode's flow crosses, 0.48 % and 0.38 %, and 0.42 % at 30 (docs/validation.md, *Damping in \
     3D*)";
 
