@@ -41,28 +41,3 @@ pub fn run_script(script: &str, sets: &[&str], out: &Path) -> anyhow::Result<Sum
         },
     )
 }
-
-/// Reads a column of `series.csv` in `out`.
-pub fn series_column(out: &Path, name: &str) -> Vec<f64> {
-    let table = slosh_io::read_table(out.join("series.csv")).expect("read series.csv");
-    table
-        .column(name)
-        .unwrap_or_else(|| panic!("series.csv has no column {name}"))
-}
-
-/// Mean period (s) of a signal from its upward crossings of its mean value, linearly
-/// interpolated between samples; `None` with fewer than two crossings.
-pub fn period_from_crossings(t: &[f64], y: &[f64]) -> Option<f64> {
-    let mean = y.iter().sum::<f64>() / y.len() as f64;
-    let mut crossings = Vec::new();
-    for i in 1..y.len() {
-        let (a, b) = (y[i - 1] - mean, y[i] - mean);
-        if a < 0.0 && b >= 0.0 {
-            crossings.push(t[i - 1] + (t[i] - t[i - 1]) * (-a) / (b - a));
-        }
-    }
-    if crossings.len() < 2 {
-        return None;
-    }
-    Some((crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64)
-}

@@ -118,6 +118,12 @@ pub(crate) fn rewrite_series(
     // the streamed series stays whole until the new one is complete.
     let dir = path.parent().unwrap_or(Path::new("."));
     let staging = dir.join(".series-rewrite");
+    if std::fs::symlink_metadata(&staging).is_ok_and(|m| !m.is_dir()) {
+        anyhow::bail!(
+            "{} is a link or a file; slosh writes no file through a link",
+            staging.display()
+        );
+    }
     std::fs::create_dir_all(&staging)?;
     let staged = staging.join(path.file_name().unwrap_or("series.csv".as_ref()));
     let mut writer = SeriesWriter::create(&staged, names)?;

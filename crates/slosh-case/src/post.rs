@@ -56,6 +56,7 @@ pub fn write_post_outputs(out: &Path, result: &PostResult) -> Result<()> {
     let dir = out.join("post");
     std::fs::create_dir_all(&dir)?;
     for (name, header, rows) in &result.tables {
+        crate::run_folder::record_output(out, &format!("post/{name}"))?;
         let mut w = TableWriter::create_whole(dir.join(format!("{name}.csv")), header)?;
         for r in rows {
             w.write_row(r)?;
@@ -63,6 +64,7 @@ pub fn write_post_outputs(out: &Path, result: &PostResult) -> Result<()> {
         w.finish()?;
     }
     for p in &result.plots {
+        crate::run_folder::record_output(out, &format!("post/{}", p.name))?;
         slosh_io::line_plot(
             dir.join(&p.name),
             &PlotSpec::new(&p.title, &p.x_label, &p.y_label),

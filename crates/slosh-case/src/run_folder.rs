@@ -10,7 +10,8 @@ use std::path::{Path, PathBuf};
 /// and naming it (process id and host).
 pub const LOCK_FILE: &str = ".slosh.lock";
 
-/// Files and folders a run writes (and removes again before the next run in the same folder).
+/// Files a run writes at the top of its folder (and removes again before the next run in the
+/// same folder), each also as its temporary sibling `NAME.tmp` / `NAME.part` while written.
 const GENERATED_FILES: [&str; 7] = [
     "series.csv",
     "series_units.csv",
@@ -20,8 +21,29 @@ const GENERATED_FILES: [&str; 7] = [
     "roof_points.vtp",
     "input_spectrum.csv",
 ];
-const GENERATED_DIRS: [&str; 4] = ["frames", "plots", "post", "checkpoint"];
-/// Files another slosh command writes into a run folder (a sweep's log of the case).
+/// The folders a run writes into; only the files [`generated`] accepts may be in them.
+const GENERATED_DIRS: [&str; 5] = ["frames", "plots", "post", "checkpoint", ".series-rewrite"];
+/// The plots a run draws into `plots/`, each as `.png` and `.svg` (and `.part.png`,
+/// `.part.svg` while drawn): `docs/formats.md` lists them.
+const PLOT_STEMS: [&str; 11] = [
+    "eta",
+    "base_shear",
+    "roof_force",
+    "roof_pressure",
+    "ground_accel",
+    "roof_pressure_map",
+    "fig7_a",
+    "fig7_b",
+    "fig7_c",
+    "frame_peak",
+    "input_spectrum",
+];
+/// The record of the names a run chose at run time (the `post/` tables and plots a script
+/// asks for): one relative path stem per line, written before the file is created, so that
+/// the next run in the folder can prove the file is slosh's.
+pub const OUTPUTS_FILE: &str = ".slosh-outputs";
+/// Files another slosh command writes into a run folder (a sweep's log of the case), kept
+/// when a run starts again in the folder.
 const KNOWN_FILES: [&str; 2] = ["run.log", LOCK_FILE];
 
 /// A run's claim on its output folder; the lock is released when it is dropped.
@@ -31,6 +53,9 @@ pub struct RunFolder {
     lock: PathBuf,
     /// The open lock file, locked until it is closed (after the path is removed).
     _held: std::fs::File,
+    /// The folder itself, open and locked as the file is (where the file system locks
+    /// folders): a lock file removed by hand does not let a second run in.
+    _held_folder: Option<std::fs::File>,
     case: String,
     script: String,
 }
@@ -72,11 +97,13 @@ impl RunFolder {
     /// Takes the lock of the existing folder `dir` and checks that it is a run folder.
     fn lock(dir: &Path, case: &str, script: &Path) -> Result<RunFolder> {
         let lock = dir.join(LOCK_FILE);
+        let held_folder = lock_folder(dir, &lock)?;
         let held = take_lock(&lock)?;
         let folder = RunFolder {
             dir: dir.to_path_buf(),
             lock,
             _held: held,
+            _held_folder: held_folder,
             case: case.to_string(),
             script: script.display().to_string(),
         };
@@ -128,18 +155,12 @@ fn take_lock(lock: &Path) -> Result<std::fs::File> {
     // A holder that ends removes the path while still locked; a run that opened the old file
     // just before may lock it then: it finds the path gone or new, and opens again.
     for _ in 0..3 {
-        let mut file = std::fs::OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create(true)
-            .truncate(false)
-            .open(lock)
-            .with_context(|| {
-                format!(
-                    "cannot create the lock {} (is the folder writable?)",
-                    lock.display()
-                )
-            })?;
+        let mut file = open_no_follow(lock, false).with_context(|| {
+            format!(
+                "cannot create the lock {} (is the folder writable?)",
+                lock.display()
+            )
+        })?;
         match file.try_lock() {
             Ok(()) if !names_file(lock, &file) => continue,
             Ok(()) => {
@@ -163,6 +184,29 @@ fn take_lock(lock: &Path) -> Result<std::fs::File> {
         "cannot take the lock {}: other runs took and released it at the same moment",
         lock.display()
     )
+}
+
+/// Locks the folder `dir` itself for this process (`flock` on the open folder), the second
+/// lock beside the lock file `lock`: a run that finds the file gone (removed by hand) still
+/// finds the folder held, and is refused before it writes anything. `None` where the file
+/// system cannot lock a folder.
+fn lock_folder(dir: &Path, lock: &Path) -> Result<Option<std::fs::File>> {
+    let Ok(folder) = std::fs::File::open(dir) else {
+        return Ok(None);
+    };
+    match folder.try_lock() {
+        Ok(()) => Ok(Some(folder)),
+        Err(std::fs::TryLockError::WouldBlock) if std::fs::symlink_metadata(lock).is_ok() => {
+            Err(busy(lock))
+        }
+        Err(std::fs::TryLockError::WouldBlock) => bail!(
+            "{} is being written by another slosh run (its lock file {LOCK_FILE} was removed, \
+             but the run still holds the folder); wait for it to end, stop it, or choose \
+             another --out folder",
+            dir.display()
+        ),
+        Err(std::fs::TryLockError::Error(_)) => Ok(None),
+    }
 }
 
 /// The error of a folder whose lock `lock` another run holds, naming it.
@@ -240,55 +284,189 @@ fn process_alive(pid: u32) -> bool {
     }
 }
 
-/// A folder is a run folder when it is empty, or holds what a run writes.
-fn check_is_run_folder(dir: &Path) -> Result<()> {
-    let names: Vec<String> = std::fs::read_dir(dir)
-        .with_context(|| format!("cannot list the output folder {}", dir.display()))?
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().to_string())
-        .collect();
-    let ours = |n: &String| {
-        GENERATED_FILES.contains(&n.as_str())
-            || GENERATED_DIRS.contains(&n.as_str())
-            || KNOWN_FILES.contains(&n.as_str())
+/// Whether `name` is `base` or one of its temporary siblings (`.tmp`, `.part`).
+fn is_or_temp_of(name: &str, base: &str) -> bool {
+    name.strip_prefix(base)
+        .is_some_and(|rest| rest.is_empty() || rest == ".tmp" || rest == ".part")
+}
+
+/// Whether the file at `rel` (relative to the run folder, as its components) is one a run
+/// writes; `chosen` are the stems of [`OUTPUTS_FILE`] (`post/NAME`).
+fn generated(rel: &[&str], chosen: &[String]) -> bool {
+    let drawn = |name: &str, stem: &str| {
+        name.strip_prefix(stem)
+            .is_some_and(|ext| matches!(ext, ".png" | ".svg" | ".part.png" | ".part.svg"))
     };
-    let foreign: Vec<&String> = names.iter().filter(|n| !ours(n)).collect();
-    let is_run = names
-        .iter()
-        .any(|n| n == "summary.ron" || n == "series.csv" || n == "run.log");
-    if !foreign.is_empty() && !is_run {
-        let shown: Vec<&str> = foreign.iter().take(3).map(|s| s.as_str()).collect();
+    match rel {
+        [name] => {
+            GENERATED_FILES.iter().any(|f| is_or_temp_of(name, f))
+                || KNOWN_FILES.contains(name)
+                || *name == OUTPUTS_FILE
+        }
+        ["checkpoint", name] => ["run.ron", "state.bin"]
+            .iter()
+            .any(|f| is_or_temp_of(name, f)),
+        ["frames", name] => {
+            is_or_temp_of(name, "frames.pvd")
+                || name
+                    .strip_prefix("frame_")
+                    .and_then(|r| {
+                        r.strip_suffix(".vtp")
+                            .or_else(|| r.strip_suffix(".vtp.tmp"))
+                    })
+                    .is_some_and(|n| n.len() >= 6 && n.bytes().all(|b| b.is_ascii_digit()))
+        }
+        ["plots", name] => PLOT_STEMS.iter().any(|stem| drawn(name, stem)),
+        [".series-rewrite", name] => {
+            is_or_temp_of(name, "series.csv") || is_or_temp_of(name, "series_units.csv")
+        }
+        ["post", name] => chosen.iter().any(|c| {
+            c.strip_prefix("post/").is_some_and(|stem| {
+                drawn(name, stem)
+                    || name
+                        .strip_prefix(stem)
+                        .is_some_and(|ext| ext == ".csv" || ext == ".csv.part")
+            })
+        }),
+        _ => false,
+    }
+}
+
+/// The files of the run folder `dir` that an earlier run wrote (relative paths, folders
+/// last), after checking every entry at every depth without following links: anything that
+/// is not a file slosh writes (a file of another name, another folder, a link, a device) is
+/// refused with its path, and nothing is touched.
+fn earlier_outputs(dir: &Path) -> Result<Vec<PathBuf>> {
+    let chosen: Vec<String> = std::fs::read_to_string(dir.join(OUTPUTS_FILE))
+        .unwrap_or_default()
+        .lines()
+        .map(str::to_string)
+        .collect();
+    let list = |d: &Path| -> Result<Vec<std::fs::DirEntry>> {
+        std::fs::read_dir(d)
+            .with_context(|| format!("cannot list the output folder {}", d.display()))?
+            .map(|e| e.with_context(|| format!("cannot list {}", d.display())))
+            .collect()
+    };
+    let mut files = Vec::new();
+    let mut folders = Vec::new();
+    let mut foreign: Vec<String> = Vec::new();
+    for entry in list(dir)? {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let kind = entry.file_type()?;
+        if kind.is_dir() && GENERATED_DIRS.contains(&name.as_str()) {
+            for inner in list(&entry.path())? {
+                let inner_name = inner.file_name().to_string_lossy().into_owned();
+                let rel = format!("{name}/{inner_name}");
+                if inner.file_type()?.is_file() && generated(&[&name, &inner_name], &chosen) {
+                    files.push(PathBuf::from(rel));
+                } else {
+                    foreign.push(describe(&rel, &inner.file_type()?));
+                }
+            }
+            folders.push(PathBuf::from(&name));
+        } else if kind.is_file() && generated(&[&name], &chosen) {
+            if !KNOWN_FILES.contains(&name.as_str()) {
+                files.push(PathBuf::from(&name));
+            }
+        } else {
+            foreign.push(describe(&name, &kind));
+        }
+    }
+    if !foreign.is_empty() {
+        foreign.sort();
+        let shown: Vec<&str> = foreign.iter().take(5).map(String::as_str).collect();
         bail!(
-            "the output folder {} holds files that no slosh run wrote ({}{}); choose a new or \
-             empty --out folder so that nothing of yours is overwritten",
+            "the output folder {} holds what no slosh run wrote ({}{}); slosh removes only its \
+             own files and writes through no link: move them away, or choose a new or empty \
+             --out folder",
             dir.display(),
             shown.join(", "),
-            if foreign.len() > 3 { ", …" } else { "" }
+            if foreign.len() > 5 {
+                format!(" and {} more", foreign.len() - 5)
+            } else {
+                String::new()
+            }
         );
     }
-    Ok(())
+    files.extend(folders);
+    Ok(files)
+}
+
+/// A folder entry for the refusal's list: a link or another kind of file says what it is.
+fn describe(rel: &str, kind: &std::fs::FileType) -> String {
+    if kind.is_symlink() {
+        format!("{rel} (a link)")
+    } else if kind.is_dir() {
+        format!("{rel}/")
+    } else if kind.is_file() {
+        rel.to_string()
+    } else {
+        format!("{rel} (not a file)")
+    }
+}
+
+/// A folder is a run folder when it is empty, or holds only what a run writes.
+fn check_is_run_folder(dir: &Path) -> Result<()> {
+    earlier_outputs(dir).map(|_| ())
 }
 
 /// Removes the outputs of an earlier run (its summary, series, roof files, frames, plots and
-/// post-processing), so that nothing stale stands beside the new run's files.
+/// post-processing), so that nothing stale stands beside the new run's files: file by file,
+/// each proven to be slosh's ([`earlier_outputs`]), then the folders they leave empty (a
+/// folder that is not empty by then is kept with what it holds).
 fn remove_earlier_outputs(dir: &Path) -> Result<()> {
-    for f in GENERATED_FILES {
-        let p = dir.join(f);
-        if p.exists() {
+    for rel in earlier_outputs(dir)? {
+        let p = dir.join(&rel);
+        if GENERATED_DIRS.iter().any(|d| rel == Path::new(d)) {
+            let _ = std::fs::remove_dir(&p);
+        } else {
             std::fs::remove_file(&p)
                 .with_context(|| format!("cannot remove the earlier run's {}", p.display()))?;
         }
     }
-    for d in GENERATED_DIRS {
-        let p = dir.join(d);
-        let removed = match std::fs::symlink_metadata(&p) {
-            Ok(m) if m.is_dir() => std::fs::remove_dir_all(&p),
-            Ok(_) => std::fs::remove_file(&p),
-            Err(_) => Ok(()),
-        };
-        removed.with_context(|| format!("cannot remove the earlier run's {}", p.display()))?;
-    }
     Ok(())
+}
+
+/// Records that the run in `out` writes `rel_stem` (`post/NAME`), before it creates the file:
+/// the next run in the folder removes it as its own ([`OUTPUTS_FILE`]).
+pub fn record_output(out: &Path, rel_stem: &str) -> Result<()> {
+    let path = out.join(OUTPUTS_FILE);
+    let known = std::fs::read_to_string(&path).unwrap_or_default();
+    if known.lines().any(|l| l == rel_stem) {
+        return Ok(());
+    }
+    let mut file =
+        open_no_follow(&path, true).with_context(|| format!("cannot write {}", path.display()))?;
+    file.write_all(format!("{rel_stem}\n").as_bytes())
+        .with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Opens `path` for writing (appending when `append`, otherwise keeping its contents), creating
+/// it when missing, never through a link (`O_NOFOLLOW`: a link there is an error).
+fn open_no_follow(path: &Path, append: bool) -> std::io::Result<std::fs::File> {
+    let mut options = std::fs::OpenOptions::new();
+    options
+        .read(!append)
+        .write(true)
+        .append(append)
+        .create(true)
+        .truncate(false);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(libc::O_NOFOLLOW);
+    }
+    options.open(path).map_err(|e| {
+        if e.raw_os_error() == Some(libc::ELOOP) {
+            std::io::Error::other(format!(
+                "{} is a link; slosh writes no file through a link",
+                path.display()
+            ))
+        } else {
+            e
+        }
+    })
 }
 
 #[cfg(test)]

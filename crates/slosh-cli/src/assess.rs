@@ -68,8 +68,21 @@ impl Manifest {
                 out_dir.display()
             )
         })?;
-        ron::from_str(&text)
-            .with_context(|| format!("{} is not an assessment manifest", path.display()))
+        let manifest: Manifest = ron::from_str(&text)
+            .with_context(|| format!("{} is not an assessment manifest", path.display()))?;
+        // Every name becomes a folder under `runs/`: one plain folder each, no two alike.
+        for (k, m) in manifest.motions.iter().enumerate() {
+            crate::sweep::check_folder_name(&m.name)
+                .with_context(|| format!("{} is not an assessment manifest", path.display()))?;
+            if manifest.motions[..k].iter().any(|o| o.name == m.name) {
+                bail!(
+                    "{}: the motion name {:?} appears twice; each motion needs its own folder",
+                    path.display(),
+                    m.name
+                );
+            }
+        }
+        Ok(manifest)
     }
 
     fn write(&self, out_dir: &Path) -> Result<()> {

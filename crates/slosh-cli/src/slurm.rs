@@ -123,58 +123,110 @@ fn shell_quote(word: &str) -> String {
     }
 }
 
-/// The text of the batch script of `job` with `options`.
-pub fn batch_script(job: &JobArray, options: &SlurmOptions) -> String {
+/// Refuses a value bound for the batch script that holds a control character (a newline
+/// would end an `#SBATCH` line or a command and start another one of the value's choosing).
+pub(crate) fn check_plain(what: &str, value: &str) -> Result<()> {
+    if let Some(c) = value.chars().find(|c| c.is_control()) {
+        bail!(
+            "{what} {value:?} holds the control character {c:?}, which a Slurm batch script \
+             cannot carry; choose a name or folder without it"
+        );
+    }
+    Ok(())
+}
+
+/// Quotes a value of an `#SBATCH` line, which sbatch reads itself, not through a shell: it
+/// splits on blanks, takes `"…"` as one word, `\` as an escape and an unquoted `#` as the
+/// start of a comment (Slurm's `sbatch/opt.c`, `_get_argument`). Control characters are
+/// refused before ([`check_plain`]).
+fn sbatch_quote(word: &str) -> String {
+    if !word.is_empty()
+        && word
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "/._-+=:,@%".contains(c))
+    {
+        word.to_string()
+    } else {
+        let mut quoted = String::from("\"");
+        for c in word.chars() {
+            if c == '"' || c == '\\' {
+                quoted.push('\\');
+            }
+            quoted.push(c);
+        }
+        quoted.push('"');
+        quoted
+    }
+}
+
+/// The text of the batch script of `job` with `options`; every value written into it is
+/// checked ([`check_plain`]) and quoted for the line that reads it.
+pub fn batch_script(job: &JobArray, options: &SlurmOptions) -> Result<String> {
+    let log = job.log_dir.join("%A_%a.out").display().to_string();
+    let exe = job.exe.display().to_string();
+    check_plain("the job name", &job.job_name)?;
+    check_plain("the output folder", &log)?;
+    check_plain("the slosh executable", &exe)?;
+    for a in &job.task_args {
+        check_plain("the argument", a)?;
+    }
+    if let Some(p) = &options.partition {
+        check_plain("--partition", p)?;
+    }
+    if let Some(t) = &options.time {
+        check_plain("--time", t)?;
+    }
+    let backend = std::env::var(crate::BACKEND_ENV).ok();
+    if let Some(b) = &backend {
+        check_plain(crate::BACKEND_ENV, b)?;
+    }
     let mut s = String::from("#!/bin/bash\n");
     s.push_str(&format!(
         "#SBATCH --job-name={}\n",
-        shell_quote(&job.job_name)
+        sbatch_quote(&job.job_name)
     ));
     s.push_str(&format!(
         "#SBATCH --array=0-{}\n",
         job.tasks.saturating_sub(1)
     ));
-    s.push_str(&format!(
-        "#SBATCH --output={}\n",
-        job.log_dir.join("%A_%a.out").display()
-    ));
+    s.push_str(&format!("#SBATCH --output={}\n", sbatch_quote(&log)));
     s.push_str("#SBATCH --ntasks=1\n");
     if let Some(p) = &options.partition {
-        s.push_str(&format!("#SBATCH --partition={p}\n"));
+        s.push_str(&format!("#SBATCH --partition={}\n", sbatch_quote(p)));
     }
     if let Some(t) = &options.time {
-        s.push_str(&format!("#SBATCH --time={t}\n"));
+        s.push_str(&format!("#SBATCH --time={}\n", sbatch_quote(t)));
     }
     if let Some(n) = options.cpus_per_task {
         s.push_str(&format!("#SBATCH --cpus-per-task={n}\n"));
     }
     s.push_str("#SBATCH --requeue\n");
     s.push_str("#SBATCH --open-mode=append\n\n");
-    if let Ok(backend) = std::env::var(crate::BACKEND_ENV) {
+    if let Some(backend) = &backend {
         // `--backend` of the sweep or assessment that wrote the job: its runs step there.
         s.push_str(&format!(
             "export {}={}\n",
             crate::BACKEND_ENV,
-            shell_quote(&backend)
+            shell_quote(backend)
         ));
     }
     s.push_str("# One array task per run; each writes only its own run folder.\n");
-    let mut command = vec![shell_quote(&job.exe.display().to_string())];
+    let mut command = vec![shell_quote(&exe)];
     command.extend(job.task_args.iter().map(|a| shell_quote(a)));
     command.push("--task".into());
     command.push("\"$SLURM_ARRAY_TASK_ID\"".into());
     s.push_str(&format!("exec {}\n", command.join(" ")));
-    s
+    Ok(s)
 }
 
 /// Writes the batch script of `job` to `path` (executable) and returns the `sbatch`
 /// command that submits it.
 pub fn write_batch_script(path: &Path, job: &JobArray, options: &SlurmOptions) -> Result<String> {
     options.check()?;
+    let text = batch_script(job, options)?;
     std::fs::create_dir_all(&job.log_dir)
         .with_context(|| format!("cannot create {}", job.log_dir.display()))?;
-    std::fs::write(path, batch_script(job, options))
-        .with_context(|| format!("cannot write {}", path.display()))?;
+    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))?;
     use std::os::unix::fs::PermissionsExt;
     std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755))
         .with_context(|| format!("cannot make {} executable", path.display()))?;
@@ -312,8 +364,9 @@ mod tests {
             time: Some("02:00:00".into()),
             cpus_per_task: Some(8),
         };
-        let s = batch_script(&job, &options);
+        let s = batch_script(&job, &options).unwrap();
         for line in [
+            "#SBATCH --output=\"/shared/my run/slurm/%A_%a.out\"\n",
             "#SBATCH --array=0-6\n",
             "#SBATCH --partition=long\n",
             "#SBATCH --time=02:00:00\n",
@@ -322,5 +375,36 @@ mod tests {
         ] {
             assert!(s.contains(line), "{line} not in\n{s}");
         }
+    }
+
+    /// A name or folder never becomes a line of its own or a command: a newline is refused,
+    /// and the sbatch-read lines quote what they carry (sbatch ends an unquoted value at a
+    /// blank and takes an unquoted `#` as a comment).
+    #[test]
+    fn names_in_the_batch_script_are_data() {
+        let job = |log: &str, name: &str| JobArray {
+            job_name: name.into(),
+            tasks: 2,
+            exe: "/opt/slosh".into(),
+            task_args: vec!["assess".into(), "--out".into(), log.into()],
+            log_dir: log.into(),
+        };
+        let options = SlurmOptions::default();
+        for (log, name) in [
+            ("SN7\ntouch pwned #", "slosh-assess-x"),
+            ("/shared/run", "a\nb"),
+            ("/shared/run\r", "x"),
+        ] {
+            let err = batch_script(&job(log, name), &options).unwrap_err();
+            assert!(err.to_string().contains("control character"), "{err}");
+        }
+        let s = batch_script(&job("/s/a \"b\" #c\\d", "n m"), &options).unwrap();
+        assert!(
+            s.contains("#SBATCH --output=\"/s/a \\\"b\\\" #c\\\\d/%A_%a.out\"\n"),
+            "{s}"
+        );
+        assert!(s.contains("#SBATCH --job-name=\"n m\"\n"), "{s}");
+        assert!(s.contains("--out '/s/a \"b\" #c\\d' --task"), "{s}");
+        assert_eq!(s.lines().filter(|l| l.starts_with("exec ")).count(), 1);
     }
 }

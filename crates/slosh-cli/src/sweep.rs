@@ -33,6 +33,7 @@ use serde::Deserialize;
 use slosh_script::{list_params_with, load_case, parse_set_value, CaseOptions, ParamValue};
 use std::collections::HashMap;
 use std::fmt;
+use std::os::unix::fs::OpenOptionsExt;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -265,6 +266,23 @@ pub(crate) fn folder_safe(text: &str) -> String {
             }
         })
         .collect()
+}
+
+/// Refuses a name that is to become one run's folder unless it is a plain single path
+/// component of [`folder_safe`] characters: not empty, not `.` or `..`, at most 255 bytes. A
+/// name read back from a file (`assess.ron`, a suite) is data and never leads outside the
+/// folder it belongs in.
+pub(crate) fn check_folder_name(name: &str) -> Result<()> {
+    if name.is_empty() || name == "." || name == ".." || folder_safe(name) != name {
+        bail!(
+            "the run name {name:?} is not a plain folder name: use letters, digits, '.', '+', \
+             '-' and '_', and not \".\" or \"..\""
+        );
+    }
+    if name.len() > 255 {
+        bail!("the run name {name:?} is longer than a folder name may be (255 bytes)");
+    }
+    Ok(())
 }
 
 /// The sub-folder name of a case: `name-value__name-value`, sanitised.
@@ -697,6 +715,10 @@ pub fn cli_sweep_as(
             PathBuf::from("out").join(format!("{name}-sweep"))
         }
     };
+    if matches!(mode, SweepMode::Slurm { .. }) {
+        // Before anything is created: the folder is written into the batch script.
+        crate::slurm::check_plain("the sweep folder", &out_dir.display().to_string())?;
+    }
     std::fs::create_dir_all(&out_dir)
         .with_context(|| format!("cannot create the sweep folder {}", out_dir.display()))?;
 
@@ -1107,6 +1129,9 @@ fn run_child(
         },
         summary,
     };
+    if let Err(e) = check_folder_name(&p.folder) {
+        return fail(format!("{e:#}"), None);
+    }
     if let Err(e) = std::fs::create_dir_all(&p.dir) {
         return fail(format!("cannot create {}: {e}", p.dir.display()), None);
     }
@@ -1121,6 +1146,7 @@ fn run_child(
         .append(resumable)
         .write(true)
         .truncate(!resumable)
+        .custom_flags(libc::O_NOFOLLOW)
         .open(&log_path)
     {
         Ok(f) => f,

@@ -496,3 +496,23 @@ fn bad_cylinder_lattice_is_refused() {
         "{err}"
     );
 }
+
+/// A thread count far beyond the machine (a typo) is refused at once with the largest it
+/// takes, instead of starting threads until the system refuses; 0 is refused too.
+#[test]
+fn absurd_thread_counts_are_refused() {
+    let dir = temp("threads");
+    let c = small_case(&dir, "0.0", "");
+    for n in ["99999999999", "0"] {
+        let (ok, err) = run(&[
+            "run",
+            c.to_str().unwrap(),
+            "--threads",
+            n,
+            "--out",
+            dir.join("out").to_str().unwrap(),
+        ]);
+        assert!(!ok, "--threads {n} accepted");
+        assert!(err.contains("--threads"), "{n}: {err}");
+    }
+}

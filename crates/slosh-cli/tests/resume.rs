@@ -186,15 +186,15 @@ fn modern_3d_record_resumes_bit_for_bit() {
             "--set",
             "roof_rise=0.1",
             "--set",
-            "dx=0.05",
+            "dx=0.0625",
             "--set",
             "settle=0.2",
             "--set",
-            "duration=1.2",
+            "duration=0.6",
             "--set",
             "frame_interval=0",
         ],
-        60,
+        30,
         &["series.csv", "roof_pressure.csv", "roof_points.csv"],
     );
 }

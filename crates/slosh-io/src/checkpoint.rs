@@ -44,7 +44,7 @@ pub fn write_checkpoint<T: Serialize>(path: &Path, value: &T) -> Result<u64> {
     part.push(".part");
     let part = std::path::PathBuf::from(part);
     let write = || -> std::io::Result<()> {
-        let mut file = std::fs::File::create(&part)?;
+        let mut file = crate::error::create_fresh(&part)?;
         file.write_all(CHECKPOINT_MAGIC)?;
         file.write_all(&CHECKPOINT_VERSION.to_le_bytes())?;
         file.write_all(&(payload.len() as u64).to_le_bytes())?;
@@ -52,7 +52,14 @@ pub fn write_checkpoint<T: Serialize>(path: &Path, value: &T) -> Result<u64> {
         file.write_all(&payload)?;
         file.sync_all()
     };
-    write().map_err(|e| io_error(&part, e))?;
+    if let Err(e) = write() {
+        // A part left behind by a full disk would starve the run's other files; a link
+        // refused at `part` is not ours to remove.
+        if e.kind() != std::io::ErrorKind::Other {
+            let _ = std::fs::remove_file(&part);
+        }
+        return Err(io_error(&part, e));
+    }
     std::fs::rename(&part, path).map_err(|e| io_error(path, e))?;
     Ok((HEADER_BYTES + payload.len()) as u64)
 }

@@ -103,13 +103,59 @@ pub(crate) fn ensure_parent(path: &Path) -> Result<()> {
     Ok(())
 }
 
-/// Writes `bytes` to `path` atomically: first to a temporary sibling, then renamed over
-/// `path`, so a reader (or an aborted run) never sees a half-written file.
+/// Creates `path` as a new, empty file for writing, never through a link: a link (or a
+/// folder, a device) at `path` is an error; an earlier regular file there is replaced. The file
+/// is created with `O_EXCL` (`create_new`), which does not follow a link planted between the
+/// check and the creation either.
+pub fn create_fresh(path: &Path) -> std::io::Result<std::fs::File> {
+    match std::fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => {
+            return Err(std::io::Error::other(
+                "it is a link; slosh writes no file through a link",
+            ))
+        }
+        Ok(m) if m.is_file() => std::fs::remove_file(path)?,
+        Ok(_) => return Err(std::io::Error::other("it is not a file")),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+        Err(e) => return Err(e),
+    }
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(path)
+}
+
+/// Refuses a link (or anything but a file) at `path`, the target of a rename or of a writer
+/// that opens the file itself.
+pub(crate) fn refuse_link(path: &Path) -> Result<()> {
+    match std::fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() || !m.is_file() => Err(IoError::io(
+            path,
+            std::io::Error::other(
+                "it is a link or not a file; slosh writes no file through a link",
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// Writes `bytes` to `path` atomically: first to a fresh temporary sibling ([`create_fresh`]),
+/// then renamed over `path`, so a reader (or an aborted run) never sees a half-written file.
 pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    use std::io::Write;
     ensure_parent(path)?;
     let mut tmp_name = path.as_os_str().to_owned();
     tmp_name.push(".tmp");
     let tmp = PathBuf::from(tmp_name);
-    std::fs::write(&tmp, bytes).map_err(|e| IoError::io(&tmp, e))?;
+    refuse_link(path)?;
+    let written = create_fresh(&tmp).and_then(|mut f| f.write_all(bytes));
+    if let Err(e) = written {
+        // A part left behind by a full disk would starve the other files; a link refused at
+        // `tmp` is not ours to remove.
+        if e.kind() != std::io::ErrorKind::Other {
+            let _ = std::fs::remove_file(&tmp);
+        }
+        return Err(IoError::io(&tmp, e));
+    }
     std::fs::rename(&tmp, path).map_err(|e| IoError::io(path, e))
 }

@@ -177,6 +177,15 @@ fn render<F: Figure>(path: &Path, fig: &F) -> Result<()> {
 /// plot is never seen half-drawn.
 fn render_two<A: Figure, B: Figure>(path: &Path, png_fig: &A, svg_fig: &B) -> Result<()> {
     let (png_part, svg_part) = (with_ext(path, "part.png"), with_ext(path, "part.svg"));
+    // The plotting library opens its files itself: each is made fresh first, never through a
+    // link, and neither it nor the plot it replaces may be a link.
+    crate::error::ensure_parent(&png_part)?;
+    for p in [&png_part, &svg_part] {
+        crate::error::create_fresh(p).map_err(|e| IoError::io(p, e))?;
+    }
+    for ext in ["png", "svg"] {
+        crate::error::refuse_link(&with_ext(path, ext))?;
+    }
     let drawn = draw_two(&png_part, &svg_part, png_fig, svg_fig).and_then(|()| {
         for (part, ext) in [(&png_part, "png"), (&svg_part, "svg")] {
             let done = with_ext(path, ext);

@@ -15,7 +15,7 @@ use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use crate::error::{ensure_parent, IoError, Result};
+use crate::error::{create_fresh, ensure_parent, refuse_link, IoError, Result};
 
 /// Formats `x` compactly and losslessly (shortest text that parses back to the same `f64`).
 pub fn format_f64(x: f64) -> String {
@@ -98,7 +98,7 @@ impl TableWriter {
             }
         }
         ensure_parent(&path)?;
-        let file = File::create(&path).map_err(|e| IoError::io(&path, e))?;
+        let file: File = create_fresh(&path).map_err(|e| IoError::io(&path, e))?;
         let mut writer = csv::WriterBuilder::new().from_writer(file);
         writer
             .write_record(&columns)
@@ -179,6 +179,7 @@ impl TableWriter {
     pub fn finish(mut self) -> Result<()> {
         self.flush()?;
         if let Some(done) = self.finished_path.take() {
+            refuse_link(&done)?;
             std::fs::rename(&self.path, &done).map_err(|e| IoError::io(&done, e))?;
         }
         Ok(())

@@ -132,12 +132,15 @@ fn run_case(
         .spawn(move || {
             let mut stop_request = move || stop_flag.load(Ordering::Relaxed).then_some(SIGINT);
             let work = move || run_case_with_stop(case, &opts, &mut stop_request);
-            let outcome = match threads {
-                Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
-                    Ok(pool) => pool.install(work),
-                    Err(e) => Err(anyhow::anyhow!("cannot start {n} worker threads: {e}")),
-                },
-                None => work(),
+            // Run inside the pool (default: one worker per core), so that the step's parallel
+            // passes start on a worker instead of being handed over from this thread on every
+            // pass, which for a small case costs as much as the step (`slosh run` does the same).
+            let outcome = match rayon::ThreadPoolBuilder::new()
+                .num_threads(threads.unwrap_or(0))
+                .build()
+            {
+                Ok(pool) => pool.install(work),
+                Err(e) => Err(anyhow::anyhow!("cannot start the worker threads: {e}")),
             };
             // The receiver is gone only when the waiting thread itself failed.
             let _ = done.send(outcome);

@@ -18,6 +18,7 @@ mod report;
 mod resolution;
 mod resume;
 mod run;
+mod scripts;
 mod sections;
 mod sloshing;
 mod three_d;
@@ -325,8 +326,9 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
         out: opts.out.clone(),
         progress: opts.progress,
         checkpoint_every: opts.checkpoint_every,
+        stage: 0,
     };
-    type StageRun = Box<dyn Fn(&run::Context) -> Vec<(String, GroupResult)>>;
+    type StageRun = Box<dyn Fn(&run::Context) -> Vec<(String, GroupResult)> + Send + Sync>;
     type Stage<'a> = (&'a str, StageRun);
     let one = |title: &'static str, f: fn(&run::Context) -> GroupResult| -> StageRun {
         Box::new(move |c| vec![(title.to_string(), f(c))])
@@ -437,6 +439,18 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
                 "Real scale: free sloshing of 2D sections",
                 real_scale::free_sloshing_2d,
             ),
+        ),
+        (
+            "shipped scripts: the paper's §3.1 case",
+            one(scripts::PAPER_CASE, scripts::paper_case),
+        ),
+        (
+            "shipped scripts: roof loads of §3.2–3.3",
+            one(scripts::ROOF, scripts::roof_loads),
+        ),
+        (
+            "shipped scripts: 3D roofs and the polar cylinder",
+            one(scripts::ROOFS_3D, scripts::roofs_3d),
         ),
     ];
     // The 3D checks run in the full suite only (≈ 15 min on 2 cores).
@@ -558,7 +572,6 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             );
         }
     }
-    let mut groups: Vec<(String, GroupResult)> = Vec::new();
     let stage = |name: &str| {
         if let Some(progress) = opts.progress {
             progress(&format!(
@@ -567,12 +580,64 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             ));
         }
     };
-    for (name, run_stage) in &stages {
-        if wanted(name) {
+    let chosen: Vec<&Stage> = stages.iter().filter(|(name, _)| wanted(name)).collect();
+    // The quick suite's cases are small (hundreds to a few thousand particles), where a case
+    // on one thread steps about as fast as on two and the threads' hand-over of every pass
+    // costs system time: its stages run side by side, one thread each, as many at a time as
+    // the machine has cores. The full suite's long 3D runs want every core for one case: its
+    // stages run one after the other. The results do not depend on the number of threads
+    // (the solver's sums are ordered), so the report is the same either way.
+    let lanes = if opts.quick {
+        std::thread::available_parallelism()
+            .map_or(1, |n| n.get())
+            .min(chosen.len())
+    } else {
+        1
+    };
+    let mut groups: Vec<(String, GroupResult)> = Vec::new();
+    if lanes <= 1 {
+        // Inside a pool of one worker per core, so that the step's parallel passes start on a
+        // worker instead of being handed over from this thread on every pass.
+        let pool = rayon::ThreadPoolBuilder::new().build();
+        for (name, run_stage) in &chosen {
             stage(name);
-            groups.extend(run_stage(&ctx));
+            groups.extend(match &pool {
+                Ok(pool) => pool.install(|| run_stage(&ctx)),
+                Err(_) => run_stage(&ctx),
+            });
+        }
+    } else {
+        let next = std::sync::atomic::AtomicUsize::new(0);
+        let done: Vec<std::sync::Mutex<Vec<(String, GroupResult)>>> =
+            chosen.iter().map(|_| Default::default()).collect();
+        std::thread::scope(|scope| {
+            for _ in 0..lanes {
+                scope.spawn(|| {
+                    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build();
+                    loop {
+                        let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        let Some((name, run_stage)) = chosen.get(k) else {
+                            break;
+                        };
+                        stage(&format!("#{} {name}", k + 1));
+                        let stage_ctx = run::Context {
+                            stage: k + 1,
+                            ..ctx.clone()
+                        };
+                        let result = match &pool {
+                            Ok(pool) => pool.install(|| run_stage(&stage_ctx)),
+                            Err(_) => run_stage(&stage_ctx),
+                        };
+                        *done[k].lock().unwrap_or_else(|e| e.into_inner()) = result;
+                    }
+                });
+            }
+        });
+        for slot in done {
+            groups.extend(slot.into_inner().unwrap_or_else(|e| e.into_inner()));
         }
     }
+    groups.extend(completeness(&opts.out, &groups));
     stage("writing the report");
     let wall_time_s = start.elapsed().as_secs_f64();
     let report_path = opts.out.join("report.md");
@@ -585,6 +650,33 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
     };
     write_report(&report, &report_path)?;
     Ok(report)
+}
+
+/// The suite's own rows: a stage that returned no row, or a plot a group lists that is not in
+/// the output folder, is a failure of the suite (a stage that silently measured nothing must
+/// not pass).
+fn completeness(out: &Path, groups: &[(String, GroupResult)]) -> Option<(String, GroupResult)> {
+    const GROUP: &str = "The suite itself";
+    let mut result = GroupResult::default();
+    for (title, group) in groups {
+        if group.checks.is_empty() {
+            result.checks.push(failed_run(
+                GROUP,
+                &format!("rows of \"{title}\""),
+                "the stage returned no row",
+            ));
+        }
+        for plot in &group.plots {
+            if !out.join(&plot.file).is_file() {
+                result.checks.push(failed_run(
+                    GROUP,
+                    &format!("plot {} of \"{title}\"", plot.file),
+                    "the plot is listed in the report but was not written",
+                ));
+            }
+        }
+    }
+    (!result.checks.is_empty()).then(|| (GROUP.to_string(), result))
 }
 
 /// Path of a plot stem in the output folder.

@@ -185,6 +185,7 @@ mod tests {
             out: dir.clone(),
             progress: None,
             checkpoint_every: Some(Duration::ZERO),
+            stage: 0,
         };
         let (t_mid, t_end, sample) = (0.25, 0.5, 0.01);
         let mut whole = tank();

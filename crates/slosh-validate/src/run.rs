@@ -15,6 +15,7 @@ pub const GRAVITY: f64 = 9.81;
 pub const RHO: f64 = 1000.0;
 
 /// Options every check group sees.
+#[derive(Clone)]
 pub struct Context {
     /// Quick subset.
     pub quick: bool,
@@ -25,13 +26,20 @@ pub struct Context {
     /// Wall time between checkpoints of the long free runs (`None` = no checkpoints, and
     /// none read).
     pub checkpoint_every: Option<std::time::Duration>,
+    /// The number of the stage these checks belong to, on its progress lines when stages run
+    /// side by side (0: none shown).
+    pub stage: usize,
 }
 
 impl Context {
-    /// A progress line (indented under its stage).
+    /// A progress line (indented under its stage, with the stage's number when it has one).
     pub fn say(&self, what: &str) {
         if let Some(progress) = self.progress {
-            progress(&format!("    {what}"));
+            if self.stage == 0 {
+                progress(&format!("    {what}"));
+            } else {
+                progress(&format!("    #{} {what}", self.stage));
+            }
         }
     }
 }

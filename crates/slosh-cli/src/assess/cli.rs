@@ -79,6 +79,10 @@ pub fn cli_assess(args: AssessArgs, overrides: Vec<(String, ParamValue)>) -> Res
     let slurm = args.slurm.options();
     if args.slurm.slurm {
         slurm.check()?;
+        if let Some(out) = &args.out {
+            // Before anything is created: the folder is written into the batch script.
+            crate::slurm::check_plain("--out", &out.display().to_string())?;
+        }
     }
     let (manifest, out_dir) = prepare(&AssessRequest {
         case,

@@ -254,6 +254,8 @@ fn typed_rows(raw: Vec<RawRow>, declared: &[ParamDecl], source: &str) -> Result<
             Some(n) if !n.trim().is_empty() => crate::sweep::folder_safe(n.trim()),
             _ => crate::sweep::case_folder_name(&values),
         };
+        crate::sweep::check_folder_name(&name)
+            .map_err(|e| anyhow::anyhow!("{source}:{line}: {e:#}"))?;
         if let Some(other) = rows.iter().find(|r| r.name == name) {
             bail!(
                 "{source}:{line}: the motion name `{name}` is also the name of the row on line {}; \
