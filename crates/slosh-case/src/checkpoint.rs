@@ -68,6 +68,23 @@ impl RunRecord {
         })
     }
 
+    /// CRC-32 of what decides the run's physics: the version, script and its CRC, the
+    /// working folder, the `--set`s, the `--allow-read` folders and the dimension (not the
+    /// checkpoint interval or the backend, which a resumption may change). `state.bin` keeps
+    /// it, so that a `run.ron` edited after the state was written is refused.
+    pub fn inputs_crc32(&self) -> u32 {
+        let inputs = (
+            &self.version,
+            &self.script,
+            &self.working_dir,
+            self.script_crc32,
+            &self.sets,
+            &self.allow_read,
+            self.dim,
+        );
+        crc32fast::hash(format!("{inputs:?}").as_bytes())
+    }
+
     /// Reads `DIR/checkpoint/run.ron` of the run folder `dir`, checking that the script is
     /// still the one the run started with.
     pub fn read(dir: &Path) -> Result<Self> {
@@ -128,11 +145,15 @@ pub struct CheckpointFile<const D: usize> {
     pub resumes: Vec<ResumeRecord>,
     /// The run's state.
     pub state: RunCheckpoint<D>,
+    /// [`RunRecord::inputs_crc32`] of the `run.ron` the state was written with.
+    pub inputs_crc32: u32,
 }
 
 /// Writes the checkpoints of a running case.
 pub struct CheckpointWriter {
     dir: PathBuf,
+    /// [`RunRecord::inputs_crc32`] of the run's record, written with every state.
+    inputs_crc32: u32,
     every: Duration,
     last: Instant,
     /// The run's interruptions so far, carried from checkpoint to checkpoint.
@@ -153,6 +174,7 @@ impl CheckpointWriter {
         slosh_io::write_ron(dir.join("run.ron"), &record)?;
         Ok(CheckpointWriter {
             dir,
+            inputs_crc32: record.inputs_crc32(),
             every,
             last: Instant::now(),
             resumes: Vec::new(),
@@ -176,6 +198,7 @@ impl CheckpointWriter {
             frames: &'a [(f64, String)],
             resumes: &'a [ResumeRecord],
             state: &'a RunCheckpoint<D>,
+            inputs_crc32: u32,
         }
         slosh_io::write_checkpoint(
             &self.dir.join("state.bin"),
@@ -183,6 +206,7 @@ impl CheckpointWriter {
                 frames,
                 resumes: &self.resumes,
                 state,
+                inputs_crc32: self.inputs_crc32,
             },
         )?;
         self.last = Instant::now();
@@ -192,11 +216,24 @@ impl CheckpointWriter {
 }
 
 /// Reads `DIR/checkpoint/state.bin` of the run folder `dir`.
+/// Refuses the state when `checkpoint/run.ron` no longer holds the inputs the state was
+/// written with (its `sets` edited, say): the run would jump to another case at the resume.
 pub fn read_state<const D: usize>(dir: &Path) -> Result<CheckpointFile<D>> {
     let path = dir.join(CHECKPOINT_DIR).join("state.bin");
-    slosh_io::read_checkpoint(&path)
+    let file: CheckpointFile<D> = slosh_io::read_checkpoint(&path)
         .map_err(|e| anyhow::anyhow!(e))
-        .with_context(|| format!("cannot resume the run in {}", dir.display()))
+        .with_context(|| format!("cannot resume the run in {}", dir.display()))?;
+    let record_path = dir.join(CHECKPOINT_DIR).join("run.ron");
+    let record: RunRecord = slosh_io::read_ron(&record_path)?;
+    if record.inputs_crc32() != file.inputs_crc32 {
+        bail!(
+            "{} was changed after the run's state was written (its script, --set values or \
+             folders differ from the run's): a resumed run must be the same case; restore the \
+             file, or start the run again",
+            record_path.display()
+        );
+    }
+    Ok(file)
 }
 
 /// A duration of wall time: `600`, `30s`, `10m`, `1.5h`; `0` means never.
@@ -216,8 +253,14 @@ pub fn parse_every(text: &str) -> Result<Option<Duration>, String> {
             ))
         }
     };
+    // A year: beyond it a checkpoint interval means none (and a duration far beyond it
+    // cannot be added to a clock reading).
+    const LONGEST_S: f64 = 365.0 * 86_400.0;
     match number.trim().parse::<f64>() {
         Ok(0.0) => Ok(None),
+        Ok(x) if x.is_finite() && x > 0.0 && x * scale > LONGEST_S => Err(format!(
+            "{text}: longer than a year between checkpoints; give 0 for none"
+        )),
         Ok(x) if x.is_finite() && x > 0.0 => Ok(Some(Duration::from_secs_f64(x * scale))),
         _ => Err(format!(
             "{text}: expected a positive duration such as 600, 30s, 10m or 1h, or 0 for none"
@@ -239,5 +282,10 @@ mod tests {
         assert!(parse_every("-1m").is_err());
         assert!(parse_every("10d").is_err());
         assert!(parse_every("soon").is_err());
+        // Beyond any clock: refused, not a panic.
+        for huge in ["1e20", "1e300s", "1e17h", "366d", "9000h"] {
+            assert!(parse_every(huge).is_err(), "{huge}");
+        }
+        assert!(parse_every("8000h").is_ok());
     }
 }

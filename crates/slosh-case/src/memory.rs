@@ -111,6 +111,89 @@ pub fn available_memory_bytes() -> Option<f64> {
     Some(kib * 1024.0)
 }
 
+/// The memory this process may still take (bytes) and what limits it: the least of the
+/// machine's available memory, the process's address-space limit (`ulimit -v`, `prlimit
+/// --as`) less what it already maps, and its cgroup's memory limit (a container's, a Slurm
+/// job's) less what the cgroup uses. `None` when none of them can be read.
+pub fn memory_budget_bytes() -> Option<(f64, &'static str)> {
+    let mut limits: Vec<(f64, &'static str)> = Vec::new();
+    if let Some(b) = available_memory_bytes() {
+        limits.push((b, "available on this machine"));
+    }
+    if let Some(b) = address_space_left() {
+        limits.push((
+            b,
+            "left under this process's address-space limit (ulimit -v)",
+        ));
+    }
+    if let Some(b) = cgroup_memory_left() {
+        limits.push((b, "left under this process's cgroup memory limit"));
+    }
+    limits.into_iter().min_by(|a, b| a.0.total_cmp(&b.0))
+}
+
+/// `RLIMIT_AS` less the process's mapped size (`VmSize`), when a limit is set (Linux).
+fn address_space_left() -> Option<f64> {
+    #[cfg(target_os = "linux")]
+    {
+        let mut limit = libc::rlimit {
+            rlim_cur: 0,
+            rlim_max: 0,
+        };
+        // SAFETY: getrlimit writes the struct it is given and nothing else.
+        if unsafe { libc::getrlimit(libc::RLIMIT_AS, &mut limit) } != 0
+            || limit.rlim_cur == libc::RLIM_INFINITY
+        {
+            return None;
+        }
+        let status = std::fs::read_to_string("/proc/self/status").ok()?;
+        let line = status.lines().find(|l| l.starts_with("VmSize:"))?;
+        let mapped_kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+        Some((limit.rlim_cur as f64 - mapped_kib * 1024.0).max(0.0))
+    }
+    #[cfg(not(target_os = "linux"))]
+    None
+}
+
+/// The process's cgroup memory limit less its usage, when it has one (cgroup v2
+/// `memory.max` − `memory.current`, or v1 `memory.limit_in_bytes` − `memory.usage_in_bytes`).
+fn cgroup_memory_left() -> Option<f64> {
+    let groups = std::fs::read_to_string("/proc/self/cgroup").ok()?;
+    let read = |path: String| -> Option<f64> {
+        std::fs::read_to_string(path)
+            .ok()?
+            .trim()
+            .parse::<f64>()
+            .ok()
+    };
+    for line in groups.lines() {
+        let mut fields = line.splitn(3, ':');
+        let (id, controllers, path) = (fields.next()?, fields.next()?, fields.next()?);
+        let (limit, usage) = if id == "0" && controllers.is_empty() {
+            let dir = format!("/sys/fs/cgroup{path}");
+            (
+                read(format!("{dir}/memory.max")),
+                read(format!("{dir}/memory.current")),
+            )
+        } else if controllers.split(',').any(|c| c == "memory") {
+            let dir = format!("/sys/fs/cgroup/memory{path}");
+            (
+                read(format!("{dir}/memory.limit_in_bytes")),
+                read(format!("{dir}/memory.usage_in_bytes")),
+            )
+        } else {
+            continue;
+        };
+        // "max" (v2) does not parse; v1 writes a huge number for no limit.
+        if let (Some(limit), Some(usage)) = (limit, usage) {
+            if limit < 1e18 {
+                return Some((limit - usage).max(0.0));
+            }
+        }
+    }
+    None
+}
+
 /// Refuses a run of `tank` at spacing `dx` with `layers` wall layers whose estimated memory
 /// exceeds `max_bytes` (or, without it, the machine's available memory), naming the estimate
 /// and a dx that would fit.
@@ -122,8 +205,8 @@ pub fn check_memory_budget(
 ) -> Result<()> {
     let (budget, what) = match max_bytes {
         Some(b) => (b, "--max-memory"),
-        None => match available_memory_bytes() {
-            Some(b) => (b, "available on this machine"),
+        None => match memory_budget_bytes() {
+            Some(b) => b,
             None => return Ok(()),
         },
     };

@@ -7,9 +7,10 @@ use slosh_io::{Field2d, PlotSpec, PointArray};
 use slosh_run::{RoofMonitor, RoofSnapshot};
 use std::path::Path;
 
-/// Writes `roof_pressure.csv` (2D: rows = time, columns = x along the roof; 3D: columns =
-/// roof point index, with `roof_points.csv` and `roof_points.vtp` giving the points, their
-/// peak pressure and its time) and the 2D map plot.
+/// Writes `roof_pressure.csv` (2D: rows = time, columns = x along the roof; 3D, and a 2D
+/// roof whose points share an x: columns = roof point index, with `roof_points.csv` (and in
+/// 3D `roof_points.vtp`) giving the points, their peak pressure and its time) and the 2D map
+/// plot.
 pub fn write_roof_pressure<const D: usize>(
     roof: &RoofMonitor<D>,
     out: &Path,
@@ -21,38 +22,57 @@ pub fn write_roof_pressure<const D: usize>(
         return Ok(());
     }
     let n = positions.len();
-    if D == 2 {
-        let xs: Vec<f64> = positions.iter().map(|p| p[0]).collect();
-        slosh_io::write_grid_csv(out.join("roof_pressure.csv"), "t", times, &xs, map)?;
-        if plots {
-            slosh_io::heatmap(
-                out.join("plots").join("roof_pressure_map"),
-                &PlotSpec::new(
-                    "Roof pressure (time-windowed)",
-                    "time t [s]",
-                    "x along the roof [m]",
-                ),
-                &Field2d {
-                    xs: times,
-                    ys: &xs,
-                    values: map,
-                    value_label: "p [Pa]".into(),
+    let xs: Vec<f64> = positions.iter().map(|p| p[0]).collect();
+    // A 2D roof names its columns by x along the roof, unless two of its points share an x
+    // (a steep cone, a stepped roof): then by index, as in 3D, with `roof_points.csv`.
+    let by_x = D == 2 && {
+        let mut names: Vec<String> = xs.iter().map(|&x| slosh_io::format_f64(x)).collect();
+        names.sort();
+        names.windows(2).all(|w| w[0] != w[1])
+    };
+    let idx: Vec<f64> = (0..n).map(|i| i as f64).collect();
+    let columns = if by_x { &xs } else { &idx };
+    slosh_io::write_grid_csv(out.join("roof_pressure.csv"), "t", times, columns, map)?;
+    if D == 2 && plots {
+        slosh_io::heatmap(
+            out.join("plots").join("roof_pressure_map"),
+            &PlotSpec::new(
+                "Roof pressure (time-windowed)",
+                "time t [s]",
+                if by_x {
+                    "x along the roof [m]"
+                } else {
+                    "roof point (roof_points.csv)"
                 },
-            )?;
-        }
-    } else {
-        let idx: Vec<f64> = (0..n).map(|i| i as f64).collect();
-        slosh_io::write_grid_csv(out.join("roof_pressure.csv"), "t", times, &idx, map)?;
-        let mut table = slosh_io::TableWriter::create_whole(
-            out.join("roof_points.csv"),
-            &["index", "x", "y", "z", "area", "p_peak", "t_peak"],
+            ),
+            &Field2d {
+                xs: times,
+                ys: columns,
+                values: map,
+                value_label: "p [Pa]".into(),
+            },
         )?;
+    }
+    if !by_x {
+        let header: &[&str] = if D == 2 {
+            &["index", "x", "y", "area", "p_peak", "t_peak"]
+        } else {
+            &["index", "x", "y", "z", "area", "p_peak", "t_peak"]
+        };
+        let mut table = slosh_io::TableWriter::create_whole(out.join("roof_points.csv"), header)?;
         let (peak, t_peak) = roof.peaks();
+        let mut row = Vec::with_capacity(header.len());
         for i in 0..n {
-            let p = positions[i];
-            table.write_row(&[i as f64, p[0], p[1], p[2], areas[i], peak[i], t_peak[i]])?;
+            row.clear();
+            row.push(i as f64);
+            row.extend((0..D).map(|k| positions[i][k]));
+            row.extend([areas[i], peak[i], t_peak[i]]);
+            table.write_row(&row)?;
         }
         table.finish()?;
+    }
+    if D == 3 {
+        let (peak, t_peak) = roof.peaks();
         let points: Vec<[f64; 3]> = positions.iter().map(|p| [p[0], p[1], p[2]]).collect();
         slosh_io::write_vtp(
             out.join("roof_points.vtp"),

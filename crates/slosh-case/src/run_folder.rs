@@ -139,7 +139,10 @@ impl RunFolder {
 
 impl Drop for RunFolder {
     fn drop(&mut self) {
-        // Removed while still locked; the lock ends when `_held` closes just after.
+        // The folder's lock first, while the lock file is still there and held: a run that
+        // comes in now finds the file held and names this one. Then the file is removed while
+        // still locked; its lock ends when `_held` closes just after.
+        drop(self._held_folder.take());
         let _ = std::fs::remove_file(&self.lock);
     }
 }
@@ -155,11 +158,15 @@ fn take_lock(lock: &Path) -> Result<std::fs::File> {
     // A holder that ends removes the path while still locked; a run that opened the old file
     // just before may lock it then: it finds the path gone or new, and opens again.
     for _ in 0..3 {
-        let mut file = open_no_follow(lock, false).with_context(|| {
-            format!(
-                "cannot create the lock {} (is the folder writable?)",
-                lock.display()
-            )
+        let mut file = open_no_follow(lock, false).map_err(|e| {
+            if e.kind() == std::io::ErrorKind::Other {
+                anyhow::anyhow!("cannot take the lock: {e}")
+            } else {
+                anyhow::anyhow!(
+                    "cannot create the lock {} (is the folder writable?): {e}",
+                    lock.display()
+                )
+            }
         })?;
         match file.try_lock() {
             Ok(()) if !names_file(lock, &file) => continue,
@@ -351,6 +358,9 @@ fn earlier_outputs(dir: &Path) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     let mut folders = Vec::new();
     let mut foreign: Vec<String> = Vec::new();
+    // `post/` files of a run made before runs recorded their names: they look like slosh's,
+    // but nothing proves it, so they are neither removed nor called someone else's.
+    let mut unproven: Vec<String> = Vec::new();
     for entry in list(dir)? {
         let name = entry.file_name().to_string_lossy().into_owned();
         let kind = entry.file_type()?;
@@ -360,6 +370,12 @@ fn earlier_outputs(dir: &Path) -> Result<Vec<PathBuf>> {
                 let rel = format!("{name}/{inner_name}");
                 if inner.file_type()?.is_file() && generated(&[&name, &inner_name], &chosen) {
                     files.push(PathBuf::from(rel));
+                } else if name == "post"
+                    && chosen.is_empty()
+                    && inner.file_type()?.is_file()
+                    && looks_like_post_output(&inner_name)
+                {
+                    unproven.push(rel);
                 } else {
                     foreign.push(describe(&rel, &inner.file_type()?));
                 }
@@ -373,6 +389,22 @@ fn earlier_outputs(dir: &Path) -> Result<Vec<PathBuf>> {
             foreign.push(describe(&name, &kind));
         }
     }
+    if foreign.is_empty() && !unproven.is_empty() {
+        unproven.sort();
+        bail!(
+            "the output folder {} holds post-processing outputs ({}) of a run made before slosh \
+             recorded the names it chose ({OUTPUTS_FILE}), so nothing proves they are slosh's: \
+             remove post/ yourself if they are, or choose a new or empty --out folder",
+            dir.display(),
+            unproven
+                .iter()
+                .take(5)
+                .map(String::as_str)
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    foreign.extend(unproven);
     if !foreign.is_empty() {
         foreign.sort();
         let shown: Vec<&str> = foreign.iter().take(5).map(String::as_str).collect();
@@ -391,6 +423,19 @@ fn earlier_outputs(dir: &Path) -> Result<Vec<PathBuf>> {
     }
     files.extend(folders);
     Ok(files)
+}
+
+/// Whether `name` has the shape of a file a script's `post` writes (`[A-Za-z0-9_-]+` with a
+/// table's or plot's extension).
+fn looks_like_post_output(name: &str) -> bool {
+    [".csv", ".png", ".svg"].iter().any(|ext| {
+        name.strip_suffix(ext).is_some_and(|stem| {
+            !stem.is_empty()
+                && stem
+                    .bytes()
+                    .all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-')
+        })
+    })
 }
 
 /// A folder entry for the refusal's list: a link or another kind of file says what it is.
@@ -515,6 +560,33 @@ mod tests {
             assert_eq!(holder_pid(&written), Some(std::process::id()), "{written}");
             drop(claim);
         }
+    }
+
+    /// `post/` files go with the run when its record names them; without a record (a folder
+    /// of an older slosh) they are kept and the run is refused with why.
+    #[test]
+    fn post_outputs_go_only_when_the_record_names_them() {
+        let d = temp("post");
+        std::fs::write(d.join("summary.ron"), "(status: \"completed\")").unwrap();
+        std::fs::create_dir_all(d.join("post")).unwrap();
+        std::fs::write(d.join("post/table.csv"), "t\n").unwrap();
+        let err = RunFolder::claim(&d, "c", Path::new("c.rhai")).unwrap_err();
+        assert!(err.to_string().contains("post/table.csv"), "{err}");
+        assert!(err.to_string().contains(OUTPUTS_FILE), "{err}");
+        assert!(d.join("post/table.csv").exists());
+        record_output(&d, "post/table").unwrap();
+        record_output(&d, "post/table").unwrap();
+        assert_eq!(
+            std::fs::read_to_string(d.join(OUTPUTS_FILE)).unwrap(),
+            "post/table\n"
+        );
+        std::fs::write(d.join("post/notes.txt"), "mine").unwrap();
+        let err = RunFolder::claim(&d, "c", Path::new("c.rhai")).unwrap_err();
+        assert!(err.to_string().contains("post/notes.txt"), "{err}");
+        std::fs::remove_file(d.join("post/notes.txt")).unwrap();
+        drop(RunFolder::claim(&d, "c", Path::new("c.rhai")).unwrap());
+        assert!(!d.join("post").exists());
+        assert!(!d.join(OUTPUTS_FILE).exists());
     }
 
     #[test]

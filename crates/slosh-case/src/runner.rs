@@ -177,6 +177,31 @@ fn simulated_tank<const D: usize>(sim: &Simulation<D>, fit: &mut build::FittedTa
 /// circle section, a sphere): on the x axis through the centre, one lattice spacing inside the
 /// liquid's extent at mid-depth (the gauge's reference height), where the vertical line holds
 /// liquid from mid-depth up.
+/// Refuses a gauge of the script whose horizontal position is not a finite point over the
+/// tank's interior: its column would be NaN for the whole run.
+fn check_gauges_inside<const D: usize>(
+    gauges: &[slosh_script::GaugeSpec],
+    sim: &Simulation<D>,
+) -> Result<()> {
+    let (lo, hi) = sim.interior_bounds();
+    for g in gauges {
+        for (axis, &x) in g.horizontal.iter().enumerate().take(D - 1) {
+            if !(x.is_finite() && lo[axis] <= x && x <= hi[axis]) {
+                anyhow::bail!(
+                    "gauge \"{}\": {} = {x} m is outside the tank, whose interior spans {} = \
+                     {:.4} to {:.4} m; place the gauge over the liquid",
+                    g.name,
+                    ["x", "y"][axis],
+                    ["x", "y"][axis],
+                    lo[axis],
+                    hi[axis]
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
 fn liquid_edge_gauges<const D: usize>(sim: &Simulation<D>) -> (Vec<f64>, Vec<f64>) {
     let (lo, hi) = sim.interior_bounds();
     let dx = sim.spacing();
@@ -290,6 +315,16 @@ fn run_built<const D: usize>(
             sim.sound_speed()
         );
     }
+    if case.excitation.has_ground_accel() && case.run.duration <= case.run.settle {
+        // The excitation starts after the settling time: this run never shakes the tank.
+        let w = format!(
+            "the run ends at {} s, before the excitation starts (settle = {} s): the tank is \
+             never shaken; give a duration longer than settle (duration counts the settling)",
+            case.run.duration, case.run.settle
+        );
+        eprintln!("warning: {w}");
+        warnings.push(w);
+    }
     let mut frames = if case.run.frame_interval > 0.0 {
         // A frame is written at most once per step; the step is about C h / c0.
         let step = sim.params().cfl_number * sim.smoothing_length() / sim.sound_speed();
@@ -355,6 +390,7 @@ fn run_built<const D: usize>(
         }
         _ => None,
     };
+    check_gauges_inside(&case.gauges, &sim)?;
     let settle = case.run.settle;
     let duration = case.run.duration;
     let theory = theory_numbers(&tank, sim.params().gravity);

@@ -162,10 +162,19 @@ fn sbatch_quote(word: &str) -> String {
 /// The text of the batch script of `job` with `options`; every value written into it is
 /// checked ([`check_plain`]) and quoted for the line that reads it.
 pub fn batch_script(job: &JobArray, options: &SlurmOptions) -> Result<String> {
-    let log = job.log_dir.join("%A_%a.out").display().to_string();
+    let log_dir = job.log_dir.display().to_string();
+    check_plain("the output folder", &log_dir)?;
+    // In `--output` Slurm expands `%` patterns (a literal `%` is `%%`) and a `\` turns the
+    // expansion off for the whole name, which would send every task into one log.
+    if log_dir.contains('\\') {
+        bail!(
+            "the output folder {log_dir:?} holds a backslash, which Slurm's --output cannot \
+             carry; choose a folder without it"
+        );
+    }
+    let log = format!("{}/%A_%a.out", log_dir.replace('%', "%%"));
     let exe = job.exe.display().to_string();
     check_plain("the job name", &job.job_name)?;
-    check_plain("the output folder", &log)?;
     check_plain("the slosh executable", &exe)?;
     for a in &job.task_args {
         check_plain("the argument", a)?;
@@ -179,6 +188,19 @@ pub fn batch_script(job: &JobArray, options: &SlurmOptions) -> Result<String> {
     let backend = std::env::var(crate::BACKEND_ENV).ok();
     if let Some(b) = &backend {
         check_plain(crate::BACKEND_ENV, b)?;
+    }
+    // sbatch removes the words "hetjob" and "packjob" from every `#SBATCH` line, quoted or not.
+    for (what, value) in [
+        ("the job name", job.job_name.as_str()),
+        ("the output folder", &log_dir),
+    ] {
+        let lower = value.to_lowercase();
+        if lower.contains("hetjob") || lower.contains("packjob") {
+            bail!(
+                "{what} {value:?} holds the word \"hetjob\" or \"packjob\", which sbatch \
+                 removes from its option lines; choose another name"
+            );
+        }
     }
     let mut s = String::from("#!/bin/bash\n");
     s.push_str(&format!(
@@ -398,13 +420,19 @@ mod tests {
             let err = batch_script(&job(log, name), &options).unwrap_err();
             assert!(err.to_string().contains("control character"), "{err}");
         }
-        let s = batch_script(&job("/s/a \"b\" #c\\d", "n m"), &options).unwrap();
+        let s = batch_script(&job("/s/a \"b\" #c%d", "n m"), &options).unwrap();
         assert!(
-            s.contains("#SBATCH --output=\"/s/a \\\"b\\\" #c\\\\d/%A_%a.out\"\n"),
+            s.contains("#SBATCH --output=\"/s/a \\\"b\\\" #c%%d/%A_%a.out\"\n"),
             "{s}"
         );
         assert!(s.contains("#SBATCH --job-name=\"n m\"\n"), "{s}");
-        assert!(s.contains("--out '/s/a \"b\" #c\\d' --task"), "{s}");
+        assert!(s.contains("--out '/s/a \"b\" #c%d' --task"), "{s}");
+        for (log, name) in [("/s/a\\b", "x"), ("/s/hetjob", "x"), ("/s/a", "PackJob-1")] {
+            assert!(
+                batch_script(&job(log, name), &options).is_err(),
+                "{log} {name}"
+            );
+        }
         assert_eq!(s.lines().filter(|l| l.starts_with("exec ")).count(), 1);
     }
 }

@@ -42,6 +42,9 @@ use std::time::Instant;
 
 /// Largest number of values one `--vary` range may produce (guards against a wrong step).
 const MAX_RANGE_VALUES: usize = 10_000;
+/// Largest number of cases of one sweep (the product of its `--vary` counts): each case is a
+/// run folder, and three ranges at the single-range limit would make 10¹² of them.
+const MAX_CASES: usize = 100_000;
 
 /// How a case of a sweep ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -266,6 +269,34 @@ pub(crate) fn folder_safe(text: &str) -> String {
             }
         })
         .collect()
+}
+
+/// Makes the case's process receive SIGTERM when the sweep that started it dies, even by
+/// SIGKILL (Linux's `PR_SET_PDEATHSIG`): it then stops as on a cluster's time limit, with a
+/// checkpoint, instead of running on unwatched and holding its folder against a rerun.
+/// Elsewhere a no-op.
+fn end_with_the_parent(cmd: &mut Command) {
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::process::CommandExt;
+        // SAFETY: the closure runs in the forked child before exec and calls only
+        // async-signal-safe functions (prctl, getppid, _exit); it allocates nothing.
+        let parent = std::process::id() as libc::pid_t;
+        unsafe {
+            cmd.pre_exec(move || {
+                if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGTERM) != 0 {
+                    return Err(std::io::Error::last_os_error());
+                }
+                // The sweep died between the fork and the prctl: end now.
+                if libc::getppid() != parent {
+                    libc::_exit(143);
+                }
+                Ok(())
+            });
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = cmd;
 }
 
 /// Refuses a name that is to become one run's folder unless it is a plain single path
@@ -666,6 +697,22 @@ pub fn cli_sweep_as(
                 v.name
             );
         }
+    }
+
+    let cases = varies
+        .iter()
+        .try_fold(1usize, |n, v| n.checked_mul(v.values.len()))
+        .filter(|&n| n <= MAX_CASES);
+    if cases.is_none() {
+        let counts: Vec<String> = varies
+            .iter()
+            .map(|v| format!("{} {}", v.values.len(), v.name))
+            .collect();
+        bail!(
+            "the sweep would run {} cases (at most {MAX_CASES}): fewer values, or several \
+             sweeps",
+            counts.join(" × ")
+        );
     }
 
     // Check the names and types against the script's declarations before running anything.
@@ -1181,6 +1228,7 @@ fn run_child(
     // In a process group of its own, so that a terminal's Ctrl-C reaches the sweep only,
     // which passes it on once (a second SIGINT would stop the case at once).
     std::os::unix::process::CommandExt::process_group(&mut cmd, 0);
+    end_with_the_parent(&mut cmd);
     let child = cmd
         .stdin(Stdio::null())
         .stdout(Stdio::from(log))

@@ -516,3 +516,191 @@ fn absurd_thread_counts_are_refused() {
         assert!(err.contains("--threads"), "{n}: {err}");
     }
 }
+
+/// Numbers no run can mean are refused with what to give instead, never a panic or a run that
+/// "completes" without physics: gravity of zero (or negative, or not a number), a checkpoint
+/// interval beyond any clock, a sweep of 10¹² cases.
+#[test]
+fn impossible_numbers_are_refused() {
+    let dir = temp("impossible_numbers");
+    for g in ["0.0", "-9.81"] {
+        let script = dir.join(format!("g{}.rhai", g.len()));
+        std::fs::write(
+            &script,
+            format!(
+                "tank(#{{ shape: \"rect\", width: 0.4, height: 0.4, depth: 0.2 }});\n\
+                 numerics(#{{ dx: 0.04, gravity: {g} }});\n\
+                 run(#{{ settle: 0.0, duration: 0.1 }});\n"
+            ),
+        )
+        .unwrap();
+        let (ok, err) = run(&[
+            "run",
+            script.to_str().unwrap(),
+            "--out",
+            dir.join("g").to_str().unwrap(),
+        ]);
+        assert!(!ok, "gravity {g} accepted");
+        assert!(err.contains("gravity"), "{g}: {err}");
+    }
+    let c = small_case(&dir, "0.0", "");
+    for every in ["1e20", "1e300s", "1e17h"] {
+        let (ok, err) = run(&[
+            "run",
+            c.to_str().unwrap(),
+            "--checkpoint-every",
+            every,
+            "--out",
+            dir.join("every").to_str().unwrap(),
+        ]);
+        assert!(!ok, "--checkpoint-every {every} accepted");
+        assert!(err.contains("checkpoint"), "{every}: {err}");
+    }
+    let (ok, err) = run(&[
+        "sweep",
+        c.to_str().unwrap(),
+        "--vary",
+        "width=1:10000:1",
+        "--vary",
+        "depth=1:10000:1",
+        "--vary",
+        "dx=1:10000:1",
+        "--slurm",
+        "--out",
+        dir.join("sweep").to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(err.contains("at most"), "{err}");
+    assert!(
+        !dir.join("sweep").exists(),
+        "the sweep folder was made before the refusal"
+    );
+}
+
+/// A run that ends before its excitation starts (the §3.1 script, whose 2 s of settling come
+/// first, cut to 1.5 s) completes with a warning that the tank was never shaken.
+#[test]
+fn a_run_that_ends_before_the_excitation_is_warned() {
+    let dir = temp("never_shaken");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scripts/paper_2d_sloshing.rhai");
+    let out = dir.join("out");
+    let (ok, err) = run(&[
+        "run",
+        script.to_str().unwrap(),
+        "--set",
+        "duration=1.5",
+        "--set",
+        "dx=0.05",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(err.contains("never shaken"), "{err}");
+    let summary = std::fs::read_to_string(out.join("summary.ron")).unwrap();
+    assert!(summary.contains("never shaken"), "{summary}");
+}
+
+/// `ground_accel` returning an array of the wrong length for the tank (3 values in 2D, 2 in
+/// 3D) is an error naming what to return, not a dropped or reinterpreted component.
+#[test]
+fn ground_accel_arrays_must_fit_the_tank() {
+    let dir = temp("accel_length");
+    for (tank, accel, dim) in [
+        (
+            "shape: \"rect\", width: 0.4, height: 0.4, depth: 0.2",
+            "[1.0, 2.0, 3.0]",
+            "2D",
+        ),
+        (
+            "shape: \"box\", length: 0.4, breadth: 0.2, height: 0.4, depth: 0.2",
+            "[1.0, 2.0]",
+            "3D",
+        ),
+    ] {
+        let script = dir.join(format!("case{}.rhai", dim));
+        std::fs::write(
+            &script,
+            format!(
+                "tank(#{{ {tank} }});\nnumerics(#{{ dx: 0.05 }});\n\
+                 run(#{{ settle: 0.0, duration: 0.01 }});\nfn ground_accel(t) {{ {accel} }}\n"
+            ),
+        )
+        .unwrap();
+        let (ok, err) = run(&[
+            "run",
+            script.to_str().unwrap(),
+            "--out",
+            dir.join(format!("out{dim}")).to_str().unwrap(),
+        ]);
+        assert!(!ok, "{dim} {accel} accepted");
+        assert!(err.contains(&format!("for a {dim} tank")), "{err}");
+    }
+}
+
+/// A gauge placed outside the tank (or at a position that is not a number) is refused with
+/// the tank's extent, instead of a column of NaN for the whole run.
+#[test]
+fn gauges_outside_the_tank_are_refused() {
+    let dir = temp("gauge_outside");
+    for x in ["5.0", "-1.0"] {
+        let c = small_case(&dir, "0.0", &format!("gauge(\"g\", {x});"));
+        let (ok, err) = run(&[
+            "run",
+            c.to_str().unwrap(),
+            "--out",
+            dir.join("out").to_str().unwrap(),
+        ]);
+        assert!(!ok, "gauge at {x} accepted");
+        assert!(
+            err.contains("gauge \"g\"") && err.contains("outside the tank"),
+            "{err}"
+        );
+    }
+    let c = small_case(&dir, "0.0", "gauge(\"g\", 0.2);");
+    let (ok, err) = run(&[
+        "run",
+        c.to_str().unwrap(),
+        "--out",
+        dir.join("ok").to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+}
+
+/// A 2D roof whose points share an x (a cone whose rise is the width: its slopes are 63°, so
+/// the lattice puts roof points above each other) still writes its roof pressure map, by point
+/// index with the points in `roof_points.csv`.
+#[test]
+fn a_steep_cone_roof_writes_its_pressure_map() {
+    let dir = temp("steep_cone");
+    let case = write_case(
+        &dir,
+        "// steep cone roof\ntank(#{ shape: \"rect\", width: 0.4, height: 0.4, depth: 0.2, roof: \"cone\", roof_rise: 0.4 });\n\
+         numerics(#{ dx: 0.04 });\nrun(#{ settle: 0.0, duration: 0.02, output_interval: 0.005 });\n",
+    );
+    let out = dir.join("out");
+    let (ok, err) = run(&[
+        "run",
+        case.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(ok, "{err}");
+    let map = std::fs::read_to_string(out.join("roof_pressure.csv")).unwrap();
+    let header: Vec<&str> = map.lines().next().unwrap().split(',').collect();
+    let mut names = header.clone();
+    names.sort();
+    names.dedup();
+    assert_eq!(names.len(), header.len(), "duplicate columns: {header:?}");
+    let points = std::fs::read_to_string(out.join("roof_points.csv")).unwrap();
+    assert!(
+        points.starts_with("index,x,y,area,p_peak,t_peak"),
+        "{points}"
+    );
+    assert_eq!(
+        points.lines().count(),
+        header.len(),
+        "one row per roof point column"
+    );
+}

@@ -421,6 +421,29 @@ fn a_run_that_cannot_fit_in_memory_is_refused_at_once() {
         .unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success() && err.contains("--max-memory"), "{err}");
+
+    // Under an address-space limit (`prlimit --as`, as a batch system or `ulimit -v` sets
+    // it) the budget is that limit, not the machine's memory: refused with the reason, not
+    // an abort when the allocation fails. dx = 8 mm needs ≈ 1.3 GB; the limit is 0.7 GB.
+    if Command::new("prlimit").arg("--version").output().is_err() {
+        eprintln!("prlimit (util-linux) not found: the address-space case is not checked");
+        return;
+    }
+    let o = Command::new("prlimit")
+        .arg("--as=700000000")
+        .arg(env!("CARGO_BIN_EXE_slosh"))
+        .arg("run")
+        .arg(root.join("scripts/cylinder_3d.rhai"))
+        .args(["--set", "dx=0.008", "--threads", "1", "--quiet", "--out"])
+        .arg(dir.join("out3"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("address-space limit") && err.contains("use dx ≥"),
+        "{err}"
+    );
 }
 
 /// A plot that cannot be written (here: a file stands where the plots folder goes) is listed

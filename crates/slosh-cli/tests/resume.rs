@@ -239,9 +239,25 @@ fn resume_refuses_what_it_cannot_continue() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("changed since the run"));
 
+    // The run's record edited after the state was written (another amplitude in its sets):
+    // refused, the excitation would jump at the resume point.
+    std::fs::write(&script, text).unwrap();
+    let record = out.join("checkpoint/run.ron");
+    let kept = std::fs::read_to_string(&record).unwrap();
+    assert!(kept.contains("sets: ["), "{kept}");
+    std::fs::write(
+        &record,
+        kept.replace("sets: [", "sets: [\"amplitude=5.0\", "),
+    )
+    .unwrap();
+    let o = slosh(&["resume", out.to_str().unwrap()]).output().unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("was changed after the run's state"), "{err}");
+    std::fs::write(&record, kept).unwrap();
+
     // A corrupted checkpoint (one bit flipped in the payload), then one cut short (as a full
     // disk would leave it): both refused with the reason, the file named.
-    std::fs::write(&script, text).unwrap();
     let state = out.join("checkpoint/state.bin");
     let good = std::fs::read(&state).unwrap();
     let mut bytes = good.clone();

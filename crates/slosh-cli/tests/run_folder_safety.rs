@@ -249,3 +249,65 @@ fn a_motion_name_never_leads_outside_the_assessment() {
         );
     }
 }
+
+/// A sweep killed outright (SIGKILL, which it cannot pass on) does not leave its case running
+/// unwatched: the case gets SIGTERM from the system, stops with a checkpoint as on a time
+/// limit, and releases its folder, so the sweep can be run again.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_killed_sweep_takes_its_running_case_with_it() {
+    let dir = temp("killed_sweep");
+    let c = case(&dir, 60.0);
+    let out = dir.join("sweep");
+    let mut sweep = Command::new(exe())
+        .args([
+            "sweep",
+            c.to_str().unwrap(),
+            "--vary",
+            "amp=1,2",
+            "--jobs",
+            "1",
+            "--quiet",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .spawn()
+        .unwrap();
+    // The first case's folder, once its run has written a few rows.
+    let started = std::time::Instant::now();
+    let case_dir = loop {
+        let running = std::fs::read_dir(&out).ok().and_then(|entries| {
+            entries.filter_map(|e| e.ok()).map(|e| e.path()).find(|d| {
+                std::fs::read_to_string(d.join("series.csv")).is_ok_and(|t| t.lines().count() >= 5)
+            })
+        });
+        if let Some(d) = running {
+            break d;
+        }
+        assert!(started.elapsed().as_secs() < 60, "the case did not start");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    sweep.kill().unwrap();
+    let _ = sweep.wait();
+    let started = std::time::Instant::now();
+    loop {
+        let summary = std::fs::read_to_string(case_dir.join("summary.ron")).unwrap_or_default();
+        if summary.contains("status: \"interrupted\"") {
+            break;
+        }
+        assert!(
+            started.elapsed().as_secs() < 30,
+            "the case runs on after its sweep was killed: {summary}"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    // Its folder is free again: the lock is released.
+    let started = std::time::Instant::now();
+    while case_dir.join(".slosh.lock").exists() {
+        assert!(
+            started.elapsed().as_secs() < 30,
+            "the case still holds its folder"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+}

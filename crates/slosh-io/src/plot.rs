@@ -180,22 +180,30 @@ fn render_two<A: Figure, B: Figure>(path: &Path, png_fig: &A, svg_fig: &B) -> Re
     // The plotting library opens its files itself: each is made fresh first, never through a
     // link, and neither it nor the plot it replaces may be a link.
     crate::error::ensure_parent(&png_part)?;
-    for p in [&png_part, &svg_part] {
-        crate::error::create_fresh(p).map_err(|e| IoError::io(p, e))?;
-    }
     for ext in ["png", "svg"] {
         crate::error::refuse_link(&with_ext(path, ext))?;
     }
-    let drawn = draw_two(&png_part, &svg_part, png_fig, svg_fig).and_then(|()| {
-        for (part, ext) in [(&png_part, "png"), (&svg_part, "svg")] {
-            let done = with_ext(path, ext);
-            std::fs::rename(part, &done).map_err(|e| IoError::io(&done, e))?;
-        }
-        Ok(())
+    let fresh = [&png_part, &svg_part].into_iter().try_for_each(|p| {
+        crate::error::create_fresh(p)
+            .map(drop)
+            .map_err(|e| IoError::io(p, e))
     });
+    let drawn = fresh
+        .and_then(|()| draw_two(&png_part, &svg_part, png_fig, svg_fig))
+        .and_then(|()| {
+            for (part, ext) in [(&png_part, "png"), (&svg_part, "svg")] {
+                let done = with_ext(path, ext);
+                std::fs::rename(part, &done).map_err(|e| IoError::io(&done, e))?;
+            }
+            Ok(())
+        });
     if drawn.is_err() {
-        let _ = std::fs::remove_file(&png_part);
-        let _ = std::fs::remove_file(&svg_part);
+        // Only the parts made here (files), never a link found in their place.
+        for part in [&png_part, &svg_part] {
+            if std::fs::symlink_metadata(part).is_ok_and(|m| m.is_file()) {
+                let _ = std::fs::remove_file(part);
+            }
+        }
     }
     drawn
 }

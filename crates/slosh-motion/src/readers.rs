@@ -484,6 +484,9 @@ fn parse_plain_text_bytes(
     options: &PlainTextOptions,
 ) -> Result<Record> {
     let text = String::from_utf8_lossy(bytes);
+    // A byte-order mark (spreadsheets write one before UTF-8 CSV) is not part of the first
+    // value: left in, it would make the first data line read as a header.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let mut header_lines: Vec<String> = Vec::new();
     let mut rows: Vec<(usize, Vec<f64>)> = Vec::new();
     let mut columns: Option<usize> = None;
@@ -506,7 +509,13 @@ fn parse_plain_text_bytes(
             .collect();
         let parsed: Vec<Option<f64>> = tokens.iter().map(|t| parse_number(t)).collect();
         if let Some(bad) = parsed.iter().position(Option::is_none) {
-            if rows.is_empty() && !header_skipped {
+            // A header names its columns; a line whose only non-numbers are numbers that are
+            // not finite (`nan`, `inf`) is a data line with a bad value, never a header.
+            let names_columns = tokens
+                .iter()
+                .zip(&parsed)
+                .any(|(t, p)| p.is_none() && t.parse::<f64>().is_err());
+            if rows.is_empty() && !header_skipped && names_columns {
                 header_skipped = true;
                 header_lines.push(line.to_string());
                 continue;

@@ -239,3 +239,27 @@ fn sha256_of_known_string() {
         "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
     );
 }
+
+/// A byte-order mark before the first value (spreadsheets write one) and a first data row with
+/// a value that is not finite must not turn the first data row into a skipped header: the BOM
+/// is dropped, and `0,nan` is refused with its line. Exact: the samples are decimal literals.
+#[test]
+fn a_bom_or_a_nan_never_makes_the_first_row_a_header() {
+    let options = PlainTextOptions::two_column(AccelUnit::MetersPerSecondSquared);
+    let with_bom = "\u{feff}0,1.5\n0.01,2.5\n0.02,3.5\n";
+    let r = parse_plain_text(with_bom, "bom.csv", &options).unwrap();
+    assert_eq!(r.len(), 3, "the first row was skipped");
+    assert_eq!(r.accel_m_s2[0], 1.5);
+    let with_header = "\u{feff}t,a\n0,1.5\n0.01,2.5\n";
+    assert_eq!(
+        parse_plain_text(with_header, "h.csv", &options)
+            .unwrap()
+            .len(),
+        2
+    );
+    for first in ["0,nan", "0,inf", "0,-Infinity"] {
+        let text = format!("{first}\n0.01,2.5\n0.02,3.5\n");
+        let err = parse_plain_text(&text, "nan.csv", &options).unwrap_err();
+        assert!(err.to_string().contains("nan.csv:1:"), "{first}: {err}");
+    }
+}

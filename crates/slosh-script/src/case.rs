@@ -33,6 +33,9 @@ pub struct Excitation {
     has_ground_accel: bool,
     has_post: bool,
     shared: Shared,
+    /// Space dimension of the tank (2 or 3): how many components an array from
+    /// `ground_accel` must have.
+    dim: usize,
 }
 
 /// The script's `fn ground_accel(t)` drives the run loop of `slosh-run`: called once per
@@ -87,8 +90,23 @@ impl Excitation {
         if let Some(x) = crate::spec::dynamic_to_f64(&value) {
             out[0] = x;
         } else if let Some(v) = crate::engine::dynamic_to_vec(&value) {
-            if v.is_empty() || v.len() > 3 {
-                return Err(bad(format!("an array of {} values", v.len())));
+            // In 2D [ax, a_vertical]; in 3D [ax, ay, az]: an array of another length would
+            // drop a component or read one as another.
+            if v.len() != self.dim {
+                return Err(ScriptError::case(
+                    &self.file,
+                    format!(
+                        "ground_accel({t}) returned an array of {} values for a {}D tank; return \
+                         a number (m/s² along x) or {}",
+                        v.len(),
+                        self.dim,
+                        if self.dim == 2 {
+                            "[ax, a_vertical]"
+                        } else {
+                            "[ax, ay, az]"
+                        }
+                    ),
+                ));
             }
             out[..v.len()].copy_from_slice(&v);
         } else {
@@ -375,6 +393,19 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
         let mut r = crate::spec::MapReader::new("case", &case);
         name = r.str_or("name", &name).map_err(err)?;
         r.finish().map_err(err)?;
+        // The name becomes the default output folder `out/<name>`: one plain folder.
+        if name.is_empty()
+            || name == "."
+            || name == ".."
+            || name
+                .chars()
+                .any(|c| c == '/' || c == '\\' || c.is_control())
+        {
+            return Err(err(format!(
+                "case: name {name:?} must be a plain folder name (no '/', '\\', control \
+                 characters, and not \".\" or \"..\"): it becomes the output folder out/<name>"
+            )));
+        }
     }
     for g in &d.gauges {
         if g.horizontal.len() + 1 != tank.dim() {
@@ -400,6 +431,7 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
             path.display()
         ));
     }
+    let dim = tank.dim();
     Ok(Case {
         name,
         script: path.to_path_buf(),
@@ -422,6 +454,7 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
             has_ground_accel,
             has_post,
             shared,
+            dim,
         },
     })
 }

@@ -1394,6 +1394,15 @@ pub(crate) fn numerics_from_map(map: &Map) -> Result<(SphParams, String, Resolut
     p.clamp_negative_pressure = r.bool_or("clamp_negative_pressure", p.clamp_negative_pressure)?;
     p.wall_separation = r.bool_or("wall_separation", p.wall_separation)?;
     p.gravity = r.f64_or("gravity", p.gravity)?;
+    if !(p.gravity.is_finite() && p.gravity > 0.0) {
+        // The still level, the sound speed from the tank, the settling and every closed form
+        // are built on g > 0 (the vertical axis points up, gravity down).
+        return Err(format!(
+            "numerics: gravity is the magnitude of g, downwards, and must be a positive number \
+             of m/s² (e.g. 9.81), got {}",
+            p.gravity
+        ));
+    }
     p.cfl_number = r.f64_or("cfl_number", p.cfl_number)?;
     let dt = r.f64_or("dt", p.fixed_dt.unwrap_or(0.0))?;
     p.fixed_dt = if dt > 0.0 { Some(dt) } else { None };

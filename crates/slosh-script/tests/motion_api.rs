@@ -138,6 +138,12 @@ fn sines_use_the_papers_sign_and_add_to_records() {
         ),
         "[s.at(t), many.at(t), s3.at(t) + both.at(t)]",
     );
+    // Three components, one per excitation: a 3D tank (a 2D one takes two).
+    let text = std::fs::read_to_string(&path).unwrap().replace(
+        "shape: \"rect\", width: 1.0,",
+        "shape: \"box\", length: 1.0, breadth: 0.5,",
+    );
+    std::fs::write(&path, text).unwrap();
     let mut case = load(&path).unwrap();
     for t in [0.0, 0.01, 0.05, 0.37, 1.0] {
         let g = case.excitation.ground_accel(t).unwrap();

@@ -80,9 +80,10 @@ class Run:
         impacts: the roof impacts, a list of dicts (Kurihara's and Malhotra's pressures
             beside the SPH peak).
         roof_pressure: the roof pressure map when the tank has a roof, else None: a dict
-            with ``t`` (s, the rows), ``x`` (2D: the position along the roof, m; 3D: the
-            roof point index) and ``p`` (Pa, a 2-D array of shape (len(t), len(x))); in 3D
-            also ``points`` (``roof_points.csv`` as a dict of columns).
+            with ``t`` (s, the rows), ``x`` (2D: the position along the roof, m; 3D, and a
+            2D roof whose points share an x: the roof point index) and ``p`` (Pa, a 2-D array
+            of shape (len(t), len(x))); with the index also ``points`` (``roof_points.csv``
+            as a dict of columns).
         status: "completed", "failed" or "interrupted".
         error: the error message of a run that did not complete, else None.
     """
