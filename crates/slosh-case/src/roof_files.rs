@@ -70,19 +70,18 @@ pub fn write_roof_pressure<const D: usize>(
             table.write_row(&row)?;
         }
         table.finish()?;
-    }
-    if D == 3 {
-        let (peak, t_peak) = roof.peaks();
-        let points: Vec<[f64; 3]> = positions.iter().map(|p| [p[0], p[1], p[2]]).collect();
-        slosh_io::write_vtp(
-            out.join("roof_points.vtp"),
-            &points,
-            &[
-                PointArray::scalar("p_peak", &peak),
-                PointArray::scalar("t_peak", &t_peak),
-                PointArray::scalar("area", areas),
-            ],
-        )?;
+        if D == 3 {
+            let points: Vec<[f64; 3]> = positions.iter().map(|p| [p[0], p[1], p[2]]).collect();
+            slosh_io::write_vtp(
+                out.join("roof_points.vtp"),
+                &points,
+                &[
+                    PointArray::scalar("p_peak", &peak),
+                    PointArray::scalar("t_peak", &t_peak),
+                    PointArray::scalar("area", areas),
+                ],
+            )?;
+        }
     }
     Ok(())
 }

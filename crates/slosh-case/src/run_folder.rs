@@ -367,17 +367,18 @@ fn earlier_outputs(dir: &Path) -> Result<Vec<PathBuf>> {
         if kind.is_dir() && GENERATED_DIRS.contains(&name.as_str()) {
             for inner in list(&entry.path())? {
                 let inner_name = inner.file_name().to_string_lossy().into_owned();
+                let inner_kind = inner.file_type()?;
                 let rel = format!("{name}/{inner_name}");
-                if inner.file_type()?.is_file() && generated(&[&name, &inner_name], &chosen) {
+                if inner_kind.is_file() && generated(&[&name, &inner_name], &chosen) {
                     files.push(PathBuf::from(rel));
                 } else if name == "post"
                     && chosen.is_empty()
-                    && inner.file_type()?.is_file()
+                    && inner_kind.is_file()
                     && looks_like_post_output(&inner_name)
                 {
                     unproven.push(rel);
                 } else {
-                    foreign.push(describe(&rel, &inner.file_type()?));
+                    foreign.push(describe(&rel, &inner_kind));
                 }
             }
             folders.push(PathBuf::from(&name));

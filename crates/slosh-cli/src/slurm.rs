@@ -110,13 +110,18 @@ pub struct JobArray {
     pub log_dir: PathBuf,
 }
 
-/// Quotes a word for a POSIX shell.
-fn shell_quote(word: &str) -> String {
-    if !word.is_empty()
+/// Whether `word` needs no quotes, for a shell or for sbatch's own option lines: not empty,
+/// and only letters, digits and `/._-+=:,@%`.
+fn is_bare_word(word: &str) -> bool {
+    !word.is_empty()
         && word
             .chars()
             .all(|c| c.is_ascii_alphanumeric() || "/._-+=:,@%".contains(c))
-    {
+}
+
+/// Quotes a word for a POSIX shell.
+fn shell_quote(word: &str) -> String {
+    if is_bare_word(word) {
         word.to_string()
     } else {
         format!("'{}'", word.replace('\'', r"'\''"))
@@ -140,11 +145,7 @@ pub(crate) fn check_plain(what: &str, value: &str) -> Result<()> {
 /// start of a comment (Slurm's `sbatch/opt.c`, `_get_argument`). Control characters are
 /// refused before ([`check_plain`]).
 fn sbatch_quote(word: &str) -> String {
-    if !word.is_empty()
-        && word
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || "/._-+=:,@%".contains(c))
-    {
+    if is_bare_word(word) {
         word.to_string()
     } else {
         let mut quoted = String::from("\"");

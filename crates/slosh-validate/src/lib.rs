@@ -164,6 +164,28 @@ pub(crate) fn info_row(
     }
 }
 
+/// A row that holds or not, with what was measured and what it was held against.
+pub(crate) fn condition(
+    group: &str,
+    name: &str,
+    measured: String,
+    reference: String,
+    holds: bool,
+    tolerance: &str,
+    reason: &str,
+) -> Check {
+    Check {
+        group: group.into(),
+        name: name.into(),
+        measured,
+        reference,
+        error: if holds { "holds" } else { "does not hold" }.into(),
+        tolerance: tolerance.into(),
+        reason: reason.into(),
+        verdict: if holds { Verdict::Pass } else { Verdict::Fail },
+    }
+}
+
 /// A check that could not be evaluated (the run failed or gave no data): a FAIL with the cause.
 /// Turns a failed check into an `Open` one: the target of a still-open issue, not met yet.
 /// `gap` says which issue and what is known about the cause.
@@ -587,55 +609,51 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
     // the machine has cores. The full suite's long 3D runs want every core for one case: its
     // stages run one after the other. The results do not depend on the number of threads
     // (the solver's sums are ordered), so the report is the same either way.
-    let lanes = if opts.quick {
-        std::thread::available_parallelism()
-            .map_or(1, |n| n.get())
-            .min(chosen.len())
+    let (lanes, threads_per_lane) = if opts.quick {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        (cores.min(chosen.len()).max(1), 1)
     } else {
-        1
+        (1, 0) // rayon's default: one thread per core
     };
-    let mut groups: Vec<(String, GroupResult)> = Vec::new();
-    if lanes <= 1 {
-        // Inside a pool of one worker per core, so that the step's parallel passes start on a
-        // worker instead of being handed over from this thread on every pass.
-        let pool = rayon::ThreadPoolBuilder::new().build();
-        for (name, run_stage) in &chosen {
-            stage(name);
-            groups.extend(match &pool {
-                Ok(pool) => pool.install(|| run_stage(&ctx)),
-                Err(_) => run_stage(&ctx),
+    // Each lane steps inside its own pool, so that the step's parallel passes start on a
+    // worker instead of being handed over from the lane's thread on every pass.
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let done: Vec<std::sync::Mutex<Vec<(String, GroupResult)>>> =
+        chosen.iter().map(|_| Default::default()).collect();
+    std::thread::scope(|scope| {
+        for _ in 0..lanes {
+            scope.spawn(|| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads_per_lane)
+                    .build();
+                loop {
+                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some((name, run_stage)) = chosen.get(k) else {
+                        break;
+                    };
+                    // Stages side by side are told apart by their number.
+                    let number = if lanes > 1 { k + 1 } else { 0 };
+                    if number == 0 {
+                        stage(name);
+                    } else {
+                        stage(&format!("#{number} {name}"));
+                    }
+                    let stage_ctx = run::Context {
+                        stage: number,
+                        ..ctx.clone()
+                    };
+                    let result = match &pool {
+                        Ok(pool) => pool.install(|| run_stage(&stage_ctx)),
+                        Err(_) => run_stage(&stage_ctx),
+                    };
+                    *done[k].lock().unwrap_or_else(|e| e.into_inner()) = result;
+                }
             });
         }
-    } else {
-        let next = std::sync::atomic::AtomicUsize::new(0);
-        let done: Vec<std::sync::Mutex<Vec<(String, GroupResult)>>> =
-            chosen.iter().map(|_| Default::default()).collect();
-        std::thread::scope(|scope| {
-            for _ in 0..lanes {
-                scope.spawn(|| {
-                    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build();
-                    loop {
-                        let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        let Some((name, run_stage)) = chosen.get(k) else {
-                            break;
-                        };
-                        stage(&format!("#{} {name}", k + 1));
-                        let stage_ctx = run::Context {
-                            stage: k + 1,
-                            ..ctx.clone()
-                        };
-                        let result = match &pool {
-                            Ok(pool) => pool.install(|| run_stage(&stage_ctx)),
-                            Err(_) => run_stage(&stage_ctx),
-                        };
-                        *done[k].lock().unwrap_or_else(|e| e.into_inner()) = result;
-                    }
-                });
-            }
-        });
-        for slot in done {
-            groups.extend(slot.into_inner().unwrap_or_else(|e| e.into_inner()));
-        }
+    });
+    let mut groups: Vec<(String, GroupResult)> = Vec::new();
+    for slot in done {
+        groups.extend(slot.into_inner().unwrap_or_else(|e| e.into_inner()));
     }
     groups.extend(completeness(&opts.out, &groups));
     stage("writing the report");

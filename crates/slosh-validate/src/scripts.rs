@@ -8,7 +8,7 @@
 //! the sign of the difference; every other row states its tolerance and why.
 
 use super::run::{Context, GRAVITY, RHO};
-use super::{failed_run, ratio_band_check, relative_check, Check, GroupResult, Verdict};
+use super::{condition, failed_run, ratio_band_check, relative_check, Check, GroupResult};
 use anyhow::{Context as _, Result};
 use slosh_case::{run_case_with_stop, RunOptions, Summary};
 use slosh_script::{load_case, parse_set_value, CaseOptions};
@@ -44,13 +44,18 @@ struct ScriptRun {
 }
 
 impl ScriptRun {
-    /// A column of the run's `series.csv`.
-    fn column(&self, name: &str) -> Result<Vec<f64>> {
-        let table = slosh_io::read_table(self.out.join("series.csv"))
-            .with_context(|| format!("reading {}", self.out.join("series.csv").display()))?;
-        table
-            .column(name)
-            .with_context(|| format!("series.csv of {} has no column {name}", self.out.display()))
+    /// The columns `names` of the run's `series.csv`, read once.
+    fn columns<const N: usize>(&self, names: [&str; N]) -> Result<[Vec<f64>; N]> {
+        let path = self.out.join("series.csv");
+        let table =
+            slosh_io::read_table(&path).with_context(|| format!("reading {}", path.display()))?;
+        let mut columns = names.map(|_| Vec::new());
+        for (column, name) in columns.iter_mut().zip(names) {
+            *column = table
+                .column(name)
+                .with_context(|| format!("{} has no column {name}", path.display()))?;
+        }
+        Ok(columns)
     }
 }
 
@@ -110,28 +115,6 @@ fn period_from_crossings(t: &[f64], y: &[f64]) -> Option<f64> {
     Some((crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64)
 }
 
-/// A row that holds or not, with what was measured and what it was held against.
-fn condition(
-    group: &str,
-    name: &str,
-    measured: String,
-    reference: String,
-    holds: bool,
-    tolerance: &str,
-    reason: &str,
-) -> Check {
-    Check {
-        group: group.into(),
-        name: name.into(),
-        measured,
-        reference,
-        error: if holds { "holds" } else { "does not hold" }.into(),
-        tolerance: tolerance.into(),
-        reason: reason.into(),
-        verdict: if holds { Verdict::Pass } else { Verdict::Fail },
-    }
-}
-
 /// No fluid particle left the tank: an exact count.
 fn contained(group: &str, what: &str, s: &Summary) -> Check {
     condition(
@@ -175,8 +158,7 @@ pub fn paper_case(ctx: &Context) -> GroupResult {
             &sets,
         )
         .and_then(|run| {
-            let t = run.column("t")?;
-            let eta = run.column("eta_left")?;
+            let [t, eta] = run.columns(["t", "eta_left"])?;
             let period = period_from_crossings(&t, &eta)
                 .context("fewer than two upward crossings of eta_left")?;
             result.particle_steps += particle_steps(&run.summary);
@@ -215,9 +197,7 @@ pub fn paper_case(ctx: &Context) -> GroupResult {
         &["frame_interval=0".into()],
     )
     .and_then(|run| {
-        let t = run.column("t")?;
-        let eta = run.column("eta_left")?;
-        let n_fluid = run.column("n_fluid")?;
+        let [t, eta, n_fluid] = run.columns(["t", "eta_left", "n_fluid"])?;
         let settle = run.summary.settle;
         let crest = t
             .iter()
@@ -393,24 +373,18 @@ pub fn roof_loads(ctx: &Context) -> GroupResult {
     // The paper compares maxima over runs of up to 50 s; the §3.2 amplitude (0.0279 m) brings
     // both crests to the roof within ≈ 1.2 s, so 4 s of excitation cover several impacts.
     let name = "Fig. 10: peak roof force at H'/H = 0.2, tank 1.0 m above 0.5 m";
-    let sweep = |w: &str| {
-        vec![
-            format!("width={w}"),
-            "duration=6".to_string(),
-            "amplitude=0.0279".to_string(),
-            "clearance_ratio=0.2".to_string(),
-        ]
-    };
-    let mut run_width = |w: &str| -> Result<ScriptRun> {
-        let sets: Vec<String> = sweep(w);
-        let r = run_script(
-            ctx,
-            "paper_2d_roof_sweep.rhai",
+    let mut run_width = |w: &str| {
+        let width = format!("width={w}");
+        run(
             &format!("roof_width_{w}"),
-            &sets,
-        )?;
-        result.particle_steps += particle_steps(&r.summary);
-        Ok(r)
+            "paper_2d_roof_sweep.rhai",
+            &[
+                &width,
+                "duration=6",
+                "amplitude=0.0279",
+                "clearance_ratio=0.2",
+            ],
+        )
     };
     match run_width("0.5").and_then(|narrow| run_width("1.0").map(|wide| (narrow, wide))) {
         Ok((narrow, wide)) => {
@@ -521,8 +495,7 @@ pub fn roofs_3d(ctx: &Context) -> GroupResult {
     ];
     let name = "polar cylinder R = H = 0.5 m, 8 per depth";
     match run_script(ctx, "cylinder_3d.rhai", "polar_cylinder_free", &sets).and_then(|r| {
-        let t = r.column("t")?;
-        let eta = r.column("eta_left")?;
+        let [t, eta] = r.columns(["t", "eta_left"])?;
         let period = period_from_crossings(&t, &eta).context("fewer than two upward crossings")?;
         Ok((period, r.summary))
     }) {
