@@ -214,6 +214,55 @@ fn fill_interior_holes(values: &mut [f64], nx: usize, ny: usize) {
     }
 }
 
+/// Writes `roof_spectrum.csv`, the roof load spectrum (`docs/roof-loads.md`): for each roof
+/// period T_r the equivalent static roof force F_eq and its dynamic load factor, then for
+/// each sensor its equivalent static pressure and factor; and its plot.
+pub fn write_roof_spectrum(
+    load: &slosh_run::RoofLoadResult,
+    out: &Path,
+    dim: usize,
+    plots: bool,
+) -> Result<()> {
+    let Some(roof) = &load.roof else {
+        return Ok(());
+    };
+    let mut header: Vec<String> = vec!["period".into(), "roof_f_eq".into(), "roof_dlf".into()];
+    for s in &load.sensors {
+        header.push(format!("p_{}_eq", s.sensor.name));
+        header.push(format!("p_{}_dlf", s.sensor.name));
+    }
+    let dlf = |f: f64, peak: f64| if peak > 0.0 { f / peak } else { f64::NAN };
+    let mut table = slosh_io::TableWriter::create_whole(out.join("roof_spectrum.csv"), &header)?;
+    let mut row = Vec::with_capacity(header.len());
+    for (i, &t) in load.spectrum_periods.iter().enumerate() {
+        row.clear();
+        row.extend([t, roof.spectrum[i], dlf(roof.spectrum[i], roof.peak)]);
+        for s in &load.sensors {
+            row.push(s.load.spectrum[i]);
+            row.push(dlf(s.load.spectrum[i], s.load.peak));
+        }
+        table.write_row(&row)?;
+    }
+    table.finish()?;
+    if plots {
+        let log_t: Vec<f64> = load.spectrum_periods.iter().map(|t| t.log10()).collect();
+        let unit = if dim == 2 { "N/m" } else { "N" };
+        slosh_io::line_plot(
+            out.join("plots").join("roof_spectrum"),
+            &PlotSpec::new(
+                format!(
+                    "Roof load spectrum (ζ_r = {:.1} %)",
+                    100.0 * load.damping_ratio
+                ),
+                "roof period log₁₀ T_r [s]",
+                format!("equivalent static roof force F_eq [{unit}]"),
+            ),
+            &[slosh_io::Series::line("F_eq", &log_t, &roof.spectrum)],
+        )?;
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::fill_interior_holes;

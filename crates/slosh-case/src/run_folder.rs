@@ -12,7 +12,7 @@ pub const LOCK_FILE: &str = ".slosh.lock";
 
 /// Files a run writes at the top of its folder (and removes again before the next run in the
 /// same folder), each also as its temporary sibling `NAME.tmp` / `NAME.part` while written.
-const GENERATED_FILES: [&str; 7] = [
+const GENERATED_FILES: [&str; 8] = [
     "series.csv",
     "series_units.csv",
     "summary.ron",
@@ -20,12 +20,13 @@ const GENERATED_FILES: [&str; 7] = [
     "roof_points.csv",
     "roof_points.vtp",
     "input_spectrum.csv",
+    "roof_spectrum.csv",
 ];
 /// The folders a run writes into; only the files [`generated`] accepts may be in them.
 const GENERATED_DIRS: [&str; 5] = ["frames", "plots", "post", "checkpoint", ".series-rewrite"];
 /// The plots a run draws into `plots/`, each as `.png` and `.svg` (and `.part.png`,
 /// `.part.svg` while drawn): `docs/formats.md` lists them.
-const PLOT_STEMS: [&str; 11] = [
+const PLOT_STEMS: [&str; 12] = [
     "eta",
     "base_shear",
     "roof_force",
@@ -37,6 +38,7 @@ const PLOT_STEMS: [&str; 11] = [
     "fig7_c",
     "frame_peak",
     "input_spectrum",
+    "roof_spectrum",
 ];
 /// The record of the names a run chose at run time (the `post/` tables and plots a script
 /// asks for): one relative path stem per line, written before the file is created, so that

@@ -12,7 +12,8 @@ use anyhow::Result;
 use slosh_core::{Simulation, SoundSpeedRule, SphParams, Vector};
 use slosh_io::FrameSeries;
 use slosh_run::{
-    Gauge, LoadFilter, LoadPeak, RoofTank, RunPlan, RunResult, RunStatus, StepError, StopRequest,
+    Gauge, LoadFilter, LoadPeak, RoofLoadSummary, RoofTank, RunPlan, RunResult, RunStatus,
+    StepError, StopRequest,
 };
 use slosh_script::{Case, SectionOutlineSpec, TankSpec};
 use std::path::PathBuf;
@@ -414,6 +415,11 @@ fn run_built<const D: usize>(
         ),
         roof_tank: roof_tank(&tank, sim.params(), theory.omega_1),
         wall_gauges,
+        roof_load: slosh_run::RoofLoadPlan {
+            sensors: case.roof_sensors.clone(),
+            damping_ratio: case.run.roof_damping,
+            design_periods: case.run.roof_periods.clone(),
+        },
     };
     let mut files = RunFiles {
         out: out.clone(),
@@ -536,6 +542,7 @@ fn run_built<const D: usize>(
         warnings,
         output_errors: Vec::new(),
         impacts: Vec::new(),
+        roof_load: result.roof_load.as_ref().map(RoofLoadSummary::of),
         kurihara_at_max: 0.0,
         malhotra_at_max: 0.0,
         motions: case.motions.clone(),
@@ -565,6 +572,15 @@ fn run_built<const D: usize>(
         {
             summary.kurihara_at_max = top.p_kurihara;
             summary.malhotra_at_max = top.p_malhotra;
+        }
+        if let Some(load) = &result.roof_load {
+            if let Err(e) =
+                crate::roof_files::write_roof_spectrum(load, out, D, opts.plots && roof_contact)
+            {
+                summary
+                    .output_errors
+                    .push(format!("roof load spectrum: {e:#}"));
+            }
         }
         if let Err(e) =
             crate::roof_files::write_roof_pressure(&result.roof, out, opts.plots && roof_contact)

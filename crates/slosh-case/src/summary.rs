@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 use slosh_core::SphParams;
-use slosh_run::{LoadFilter, LoadPeak, RoofImpact};
+use slosh_run::{LoadFilter, LoadPeak, RoofImpact, RoofLoadSummary};
 use slosh_script::{ParamValue, TankSpec};
 
 /// The summary written to `summary.ron` (the fields are listed in the README, *Outputs*). `Default` gives its layout with zeros
@@ -124,6 +124,10 @@ pub struct Summary {
     pub theory: TheoryNumbers,
     /// Roof impacts with Kurihara's and Malhotra's pressures beside the SPH peak.
     pub impacts: Vec<RoofImpact>,
+    /// The roof load from every step (`docs/roof-loads.md`): impulse, the equivalent static
+    /// load F_eq at the roof periods, the sensors, the impacts' spread; `None` without a
+    /// roof.
+    pub roof_load: Option<RoofLoadSummary>,
     /// Kurihara (Eq. 28) at the impact with the largest SPH roof pressure (Pa; 0 = no impact).
     pub kurihara_at_max: f64,
     /// Malhotra (Eq. 27) at the impact with the largest SPH roof pressure (Pa).

@@ -5,6 +5,7 @@
 
 pub mod assess;
 pub mod bench;
+pub mod converge;
 pub mod interrupt;
 pub mod runner;
 pub mod shipped_scripts;

@@ -29,6 +29,10 @@ enum Command {
     /// Run a case over the cartesian product of parameter values (parallel, resumable) into
     /// one sub-folder per case plus sweep.csv.
     Sweep(SweepArgs),
+    /// Run a case at successive resolutions (a sweep of its resolution parameter) and write
+    /// DIR/convergence.md and convergence.csv: each result's observed order, extrapolated
+    /// value and grid convergence index (Celik et al. 2008).
+    Converge(ConvergeArgs),
     /// Assess a tank under a suite of ground motions (one run per motion, locally or as a
     /// Slurm job array); writes DIR/assessment.md, assessment.csv and plots.
     Assess(slosh_cli::assess::cli::AssessArgs),
@@ -153,6 +157,53 @@ fn positive_gb(text: &str) -> Result<f64, String> {
         Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
         _ => Err(format!("must be a positive number of GB (got {text})")),
     }
+}
+
+#[derive(Args)]
+struct ConvergeArgs {
+    /// The case script (.rhai).
+    case: PathBuf,
+    /// The script parameter that sets the resolution; its value (the script's default or
+    /// --set) is the coarsest level.
+    #[arg(long, default_value = "dx")]
+    param: String,
+    /// Number of levels (3 or more give an order and a GCI).
+    #[arg(long, default_value_t = 3)]
+    levels: usize,
+    /// Refinement ratio between consecutive levels.
+    #[arg(long, default_value_t = 2.0)]
+    ratio: f64,
+    /// Whether a finer level divides the parameter (a spacing: dx) or multiplies it (a count:
+    /// particles_per_depth); default from the parameter's name.
+    #[arg(long, value_parser = ["divide", "multiply"])]
+    refine: Option<String>,
+    /// Another parameter, NAME=VALUE, the same at every level (repeatable); the resolution
+    /// parameter's own (--set dx=0.04) sets the coarsest level.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    set: Vec<String>,
+    /// Folder of the study (default: out/<case-name>-converge).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Levels run at once, each with cores/jobs threads (default 0: one per core, up to the
+    /// number of levels).
+    #[arg(long, default_value_t = 0)]
+    jobs: usize,
+    /// Report failures only.
+    #[arg(long)]
+    quiet: bool,
+    /// Also let the script read files below DIR (repeatable), as `slosh run --allow-read`.
+    #[arg(long = "allow-read", value_name = "DIR")]
+    allow_read: Vec<PathBuf>,
+    /// Slurm: write DIR/sweep.sbatch, one array task per level; then `slosh converge …
+    /// --collect` writes the report.
+    #[command(flatten)]
+    slurm: slosh_cli::slurm::SlurmArgs,
+    /// Write the report from the levels finished so far (after a --slurm job).
+    #[arg(long, conflicts_with = "slurm")]
+    collect: bool,
+    /// Where the levels' steps run: cpu, gpu or gpu_f32 (as `slosh run --backend`).
+    #[arg(long, value_parser = slosh_core::Backend::NAMES)]
+    backend: Option<String>,
 }
 
 #[derive(Args)]
@@ -286,7 +337,11 @@ fn main() -> ExitCode {
     let cli = parse_command_line();
     if matches!(
         cli.command,
-        Command::Run(_) | Command::Resume(_) | Command::Sweep(_) | Command::Assess(_)
+        Command::Run(_)
+            | Command::Resume(_)
+            | Command::Sweep(_)
+            | Command::Converge(_)
+            | Command::Assess(_)
     ) {
         if let Err(e) = slosh_cli::interrupt::install() {
             eprintln!("warning: SIGINT/SIGTERM handlers not installed ({e}): a signal ends the run at once");
@@ -296,6 +351,7 @@ fn main() -> ExitCode {
         Command::Run(args) => cmd_run(args),
         Command::Resume(args) => cmd_resume(args),
         Command::Sweep(args) => cmd_sweep(args),
+        Command::Converge(args) => cmd_converge(args),
         Command::Assess(args) => {
             pass_backend_on(args.backend.as_deref());
             parse_sets(&args.set)
@@ -540,6 +596,64 @@ fn params_table(params: &[slosh_script::ParamDecl]) -> String {
         ));
     }
     text
+}
+
+fn cmd_converge(args: ConvergeArgs) -> Result<()> {
+    use slosh_cli::converge::{cli_converge, print_table, ConvergeRequest, Refinement};
+    use slosh_cli::sweep::{CaseStatus, SweepMode};
+    pass_backend_on(args.backend.as_deref());
+    let refine = args.refine.as_deref().map(Refinement::parse).transpose()?;
+    let request = ConvergeRequest {
+        param: args.param.clone(),
+        levels: args.levels,
+        ratio: args.ratio,
+        refine,
+        sets: args.set.clone(),
+        out: args.out.clone(),
+        jobs: args.jobs,
+        quiet: args.quiet,
+        allow_read: args.allow_read.clone(),
+    };
+    let mode = match (args.slurm.slurm, args.collect) {
+        (true, _) => SweepMode::Slurm {
+            options: args.slurm.options(),
+            submit: args.slurm.submit,
+        },
+        (_, true) => SweepMode::Collect,
+        _ => SweepMode::Run,
+    };
+    let exe =
+        std::env::current_exe().context("cannot find the slosh executable that runs the levels")?;
+    let outcome = cli_converge(&exe, &args.case, &request, &mode)?;
+    if matches!(mode, SweepMode::Slurm { .. }) {
+        return Ok(());
+    }
+    let unfinished: Vec<String> = outcome
+        .sweep
+        .cases
+        .iter()
+        .filter(|c| !matches!(c.status, CaseStatus::Completed | CaseStatus::Skipped))
+        .map(|c| format!("{} ({})", c.folder, c.status))
+        .collect();
+    if !unfinished.is_empty() {
+        bail!(
+            "no convergence report: {} of {} levels have not completed: {}",
+            unfinished.len(),
+            outcome.sweep.cases.len(),
+            unfinished.join(", ")
+        );
+    }
+    if !args.quiet {
+        print_table(&outcome, &args.param);
+        if let Some(csv) = &outcome.csv {
+            eprintln!(
+                "convergence: {} and {}",
+                csv.display(),
+                csv.with_extension("md").display()
+            );
+        }
+    }
+    Ok(())
 }
 
 fn cmd_sweep(args: SweepArgs) -> Result<()> {

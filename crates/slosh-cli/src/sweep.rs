@@ -364,6 +364,9 @@ struct SummaryHead {
     parameters: Vec<(String, SummaryValue)>,
     #[serde(default)]
     post: Vec<(String, SummaryValue)>,
+    /// The roof load's scalars become columns too.
+    #[serde(default)]
+    roof_load: Option<slosh_run::RoofLoadSummary>,
 }
 
 /// The top level of a RON struct with its fields in file order.
@@ -436,6 +439,11 @@ fn parse_summary(text: &str, source: &str) -> Result<ReadSummary> {
     let fields: OrderedFields = ron::from_str(text)
         .with_context(|| format!("{source} is not a summary written by slosh run"))?;
     let mut scalars = numeric_fields(&fields);
+    if let Some(load) = &head.roof_load {
+        for (k, v) in load.scalars() {
+            scalars.push((k, slosh_io::format_f64(v)));
+        }
+    }
     for (k, v) in &head.post {
         let t = match v {
             SummaryValue::Float(x) => slosh_io::format_f64(*x),

@@ -199,6 +199,16 @@ impl<const D: usize> LoadEvaluator<D> {
     pub fn centred(&self) -> Option<&PartLoads<D>> {
         self.centred.as_ref()
     }
+    /// Steps recorded so far.
+    pub fn recorded_steps(&self) -> u64 {
+        self.recorded
+    }
+    /// Time of the latest recorded step (s; the label given to [`Self::record_step`]), `None`
+    /// before the first.
+    pub fn latest_time(&self) -> Option<f64> {
+        (self.recorded > 0)
+            .then(|| self.history_time[((self.recorded - 1) % self.window as u64) as usize])
+    }
     /// Extremes so far.
     pub fn peaks(&self) -> LoadPeaks {
         self.peaks

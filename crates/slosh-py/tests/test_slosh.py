@@ -105,6 +105,14 @@ def test_summary_impacts_and_roof_map(cli_folder):
     assert roof["p"].shape == (len(roof["t"]), len(roof["x"]))
     # The roof points of the 1 m wide tank lie across it.
     assert 0.0 < roof["x"].min() and roof["x"].max() < 1.0
+    # The roof load: F_eq at the default roof periods, the spectrum from 5 ms to 2 s.
+    load = run.roof_load
+    assert load is not None and load["periods"] == [0.02, 0.05, 0.1, 0.2]
+    assert len(load["roof"]["design"]) == 4 and load["damping_ratio"] == 0.02
+    spectrum = run.roof_spectrum
+    assert spectrum is not None
+    assert spectrum["period"][0] == pytest.approx(0.005) and spectrum["period"][-1] == pytest.approx(2.0)
+    assert len(spectrum["roof_f_eq"]) == len(spectrum["period"])
 
 
 def test_to_pandas(cli_folder):

@@ -17,15 +17,17 @@
 pub mod load_filter;
 pub mod motion;
 pub mod roof;
+pub mod roof_load;
 pub mod run;
 pub mod stepping;
 
 pub use load_filter::{LoadFilter, LoadPeak};
 pub use motion::{to_vector, AfterSettling, AtRest, GroundMotion, MotionError};
 pub use roof::{RoofImpact, RoofMonitor, RoofSnapshot, RoofTank};
+pub use roof_load::{RoofLoadPlan, RoofLoadResult, RoofLoadSummary, RoofSensor, Spread};
 pub use run::{
-    part_force_column, run_case, run_case_from, wall_gauges, Gauge, Observer, RunCheckpoint,
-    RunPlan, RunResult, RunStatus,
+    part_force_column, run_case, run_case_from, sensor_column, wall_gauges, Gauge, Observer,
+    RunCheckpoint, RunPlan, RunResult, RunStatus,
 };
 pub use stepping::{
     advance, advance_with, AfterEachStep, EachStep, HookError, StepError, StepHooks, StepPhase,

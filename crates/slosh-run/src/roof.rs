@@ -2,23 +2,39 @@
 //! Kurihara's and Malhotra's formulas beside the SPH peak (paper §3.2), and pressure-field
 //! snapshots around the largest impact (paper Fig. 7).
 
+use crate::roof_load::RoofLoadResult;
 use serde::{Deserialize, Serialize};
 use slosh_core::{Simulation, Vector};
 use slosh_theory::roof::{kurihara_roof_pressure, malhotra_roof_pressure, MALHOTRA_DEFAULT_ANGLE};
 
-/// One roof impact: a run of output rows with liquid on the roof.
+/// One roof impact: a contact episode of the roof force (see [`crate::roof_load`]).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RoofImpact {
-    /// First row with roof pressure (s).
+    /// Start of the contact (s): the output row before the roof force rose above the impact
+    /// threshold.
     pub t_start: f64,
+    /// End of the contact (s).
+    #[serde(default)]
+    pub t_end: f64,
     /// Time of the largest roof pressure (s).
     pub t_peak: f64,
     /// Largest roof pressure, SPH, time-windowed (Pa).
     pub p_max_sph: f64,
     /// Largest upward roof force (N; 2D N/m).
     pub force_max: f64,
-    /// Impulse ∫ F dt of the upward roof force over the impact (N·s; 2D N·s/m).
+    /// Impulse ∫ F dt of the upward roof force over the impact, from every step's wall
+    /// pressures (N·s; 2D N·s/m).
     pub impulse: f64,
+    /// Equivalent static roof force F_eq at each design period T_r, from the start of the
+    /// impact to the start of the next (N; 2D N/m).
+    #[serde(default)]
+    pub f_eq: Vec<f64>,
+    /// Each roof sensor's largest mean pressure over the impact, per step (Pa).
+    #[serde(default)]
+    pub sensor_peak: Vec<f64>,
+    /// Each roof sensor's pressure impulse ∫ p dt over the impact (Pa·s).
+    #[serde(default)]
+    pub sensor_impulse: Vec<f64>,
     /// Upward velocity of the wave crest at the last row before contact (m/s).
     pub crest_velocity: f64,
     /// Horizontal extent of the wetted roof from the wall at the peak, x_f (m).
@@ -232,11 +248,11 @@ pub fn crest<const D: usize>(sim: &Simulation<D>) -> (f64, f64) {
     (if n > 0 { sum / n as f64 } else { 0.0 }, top)
 }
 
-/// Splits the output rows into roof impacts and evaluates Kurihara and Malhotra for each.
-/// An impact is a run of rows with roof pressure above [`WET_PRESSURE`] (runs closer than
-/// 0.05 s are merged);
-/// impacts whose peak is below 5 % of the largest are dropped as splashes.
+/// The roof impacts of a run: the contact episodes of `loads` (see
+/// [`crate::roof_load`]), each with its time-windowed peaks from the series rows, the crest's
+/// speed before contact and Kurihara's and Malhotra's pressures.
 pub fn find_impacts(
+    loads: &RoofLoadResult,
     t: &[f64],
     roof_force: &[f64],
     roof_p: &[f64],
@@ -244,37 +260,18 @@ pub fn find_impacts(
     contact: &[f64],
     tank: &RoofTank,
 ) -> Vec<RoofImpact> {
-    let n = t.len();
-    let mut runs: Vec<(usize, usize)> = Vec::new();
-    let mut i = 0;
-    while i < n {
-        if roof_p[i] > WET_PRESSURE {
-            let start = i;
-            while i < n && roof_p[i] > WET_PRESSURE {
-                i += 1;
-            }
-            match runs.last_mut() {
-                Some(last) if t[start] - t[last.1 - 1] < 0.05 => last.1 = i,
-                _ => runs.push((start, i)),
-            }
-        } else {
-            i += 1;
-        }
-    }
-    let overall = roof_p.iter().copied().fold(0.0, f64::max);
+    let row = |time: f64| t.partition_point(|&x| x < time - 1e-12).min(t.len());
     let mut impacts = Vec::new();
-    for (start, end) in runs {
+    for e in &loads.episodes {
+        let (start, end) = (row(e.t_start), (row(e.t_end) + 1).min(t.len()));
+        if start >= end {
+            continue;
+        }
         let (k_peak, p_peak) = (start..end)
             .map(|k| (k, roof_p[k]))
             .fold((start, 0.0), |a, b| if b.1 > a.1 { b } else { a });
-        if p_peak < 0.05 * overall {
-            continue;
-        }
         let force_max = roof_force[start..end].iter().copied().fold(0.0, f64::max);
-        let mut impulse = 0.0;
-        for k in start.max(1)..end {
-            impulse += 0.5 * (roof_force[k] + roof_force[k - 1]).max(0.0) * (t[k] - t[k - 1]);
-        }
+        // The crest's upward speed at the last row before the roof took load.
         let v = if start > 0 {
             crest_vz[start - 1].max(0.0)
         } else {
@@ -282,11 +279,15 @@ pub fn find_impacts(
         };
         let x_f = contact[k_peak];
         impacts.push(RoofImpact {
-            t_start: t[start],
+            t_start: e.t_start,
+            t_end: e.t_end,
             t_peak: t[k_peak],
             p_max_sph: p_peak,
             force_max,
-            impulse,
+            impulse: e.impulse[0],
+            f_eq: e.f_eq[0].clone(),
+            sensor_peak: e.peak[1..].to_vec(),
+            sensor_impulse: e.impulse[1..].to_vec(),
             crest_velocity: v,
             contact_extent: x_f,
             p_kurihara: if tank.freeboard > 0.0 {

@@ -8,6 +8,7 @@ use crate::motion::{AfterSettling, GroundMotion, TIME_EPS};
 use crate::roof::{
     crest, find_impacts, RoofImpact, RoofMonitor, RoofSnapshot, RoofTank, WET_PRESSURE,
 };
+use crate::roof_load::{RoofLoadMonitor, RoofLoadPlan, RoofLoadResult};
 use crate::stepping::{advance, HookError, StepError, StepHooks, StopRequest, Until};
 use slosh_core::{LoadPeaks, PartLoads, SimState, Simulation, StepStats};
 use std::collections::VecDeque;
@@ -42,6 +43,8 @@ pub struct RunPlan {
     /// Horizontal positions of the `eta_left` and `eta_right` gauges; `None`: one lattice
     /// spacing inside the walls on the x axis ([`wall_gauges`]).
     pub wall_gauges: Option<(Vec<f64>, Vec<f64>)>,
+    /// Roof sensors and the roof oscillator of the roof load spectrum.
+    pub roof_load: RoofLoadPlan,
 }
 
 /// Receives what a case run produces, as it produces it: once per output row, frame or step,
@@ -133,6 +136,9 @@ pub struct RunResult<const D: usize> {
     pub roof_contact: bool,
     /// Roof impacts with Kurihara's and Malhotra's pressures beside the SPH peak.
     pub impacts: Vec<RoofImpact>,
+    /// The roof load from every step: impulse, sensors, the roof load spectrum; `None`
+    /// without a roof.
+    pub roof_load: Option<RoofLoadResult>,
     /// Compression of the liquid when the excitation started (at the end of the run without
     /// settling): 1 − Σ(m/ρ)/V0.
     pub hydrostatic_compression: f64,
@@ -185,7 +191,13 @@ impl<const D: usize> RunResult<D> {
 /// The series columns of a run: `(name, unit)` and where the loads start. `extra_parts` are
 /// the names of the parts after `bottom`, `wall` and `roof` (internal solids, parts named by
 /// the user): each gets the force of the liquid on it, `<part>_force_x` and the other axes.
-fn columns(dim: usize, gauges: &[Gauge], extra_parts: &[String]) -> (Vec<(String, String)>, usize) {
+fn columns(
+    dim: usize,
+    gauges: &[Gauge],
+    extra_parts: &[String],
+    roof_load: &RoofLoadPlan,
+    has_roof: bool,
+) -> (Vec<(String, String)>, usize) {
     let force = if dim == 2 { "N/m" } else { "N" };
     let energy = if dim == 2 { "J/m" } else { "J" };
     let mut names: Vec<(String, String)> = vec![("t".into(), "s".into())];
@@ -227,6 +239,13 @@ fn columns(dim: usize, gauges: &[Gauge], extra_parts: &[String]) -> (Vec<(String
             names.push((part_force_column(part, axis), force.into()));
         }
     }
+    for sensor in &roof_load.sensors {
+        names.push((sensor_column(&sensor.name), "Pa".into()));
+    }
+    if has_roof {
+        let impulse = if dim == 2 { "N·s/m" } else { "N·s" };
+        names.push(("roof_impulse".into(), impulse.into()));
+    }
     (names, n_before_loads)
 }
 
@@ -241,6 +260,12 @@ const PART_FORCE_AXES: [&[&str]; 2] = [&["x", "y"], &["x", "y", "z"]];
 /// `<part>_force_<axis>`.
 pub fn part_force_column(part: &str, axis: &str) -> String {
     format!("{part}_force_{axis}")
+}
+
+/// Name of the series column of a roof sensor's time-windowed mean pressure (Pa):
+/// `p_<name>`.
+pub fn sensor_column(name: &str) -> String {
+    format!("p_{name}")
 }
 
 /// Horizontal positions of the left and right wall gauges: on the x axis, one lattice
@@ -300,6 +325,7 @@ pub struct RunCheckpoint<const D: usize> {
     pub series: Vec<Vec<f64>>,
     pending: Vec<PendingRow>,
     roof: RoofMonitor<D>,
+    roof_load: RoofLoadMonitor,
     next_output: f64,
     next_frame: f64,
     compression: Option<f64>,
@@ -323,6 +349,7 @@ struct CaseMeasurements<'o, const D: usize, O: ?Sized> {
     series: Vec<Vec<f64>>,
     pending: VecDeque<PendingRow>,
     roof: RoofMonitor<D>,
+    roof_load: RoofLoadMonitor,
     levers: Vec<Vec<f64>>,
     wall_gauges: (Vec<f64>, Vec<f64>),
     still_level: f64,
@@ -349,6 +376,7 @@ impl<const D: usize, O: Observer<D> + ?Sized> CaseMeasurements<'_, D, O> {
             series: self.series.clone(),
             pending: self.pending.iter().cloned().collect(),
             roof: self.roof.clone(),
+            roof_load: self.roof_load.clone(),
             next_output: self.next_output,
             next_frame: self.next_frame,
             compression: self.compression,
@@ -399,6 +427,13 @@ impl<const D: usize, O: Observer<D> + ?Sized> CaseMeasurements<'_, D, O> {
         }
         for force in loads.force.iter().skip(BUILT_IN_PARTS) {
             values.extend(force.iter().copied());
+        }
+        for i in 0..self.roof_load.sensor_count() {
+            values.push(self.roof_load.sensor_pressure(i, centred_pressure));
+        }
+        if self.roof_load.has_roof() {
+            let row = self.series.first().map_or(0, Vec::len);
+            values.push(self.roof_load.row_impulse(row));
         }
         self.push_row(values)
     }
@@ -478,6 +513,7 @@ impl<const D: usize, O: Observer<D> + ?Sized> StepHooks<D> for CaseMeasurements<
                 step: sim.steps(),
                 values,
             });
+            self.roof_load.cut_row(t);
             while self.next_output <= t + TIME_EPS {
                 self.next_output += self.plan.output_interval;
             }
@@ -492,6 +528,7 @@ impl<const D: usize, O: Observer<D> + ?Sized> StepHooks<D> for CaseMeasurements<
     }
 
     fn after_step(&mut self, sim: &Simulation<D>) -> Result<(), HookError> {
+        self.roof_load.after_step(sim);
         self.complete_ready_rows(sim)?;
         self.observer.progress(sim.time(), sim.steps());
         if std::mem::take(&mut self.checkpoint_pending) {
@@ -564,7 +601,14 @@ where
         .skip(BUILT_IN_PARTS)
         .cloned()
         .collect();
-    let (names, n_before_loads) = columns(D, &plan.gauges, &extra_parts);
+    let roof_load = RoofLoadMonitor::new(sim, &plan.roof_load).map_err(HookError::from)?;
+    let (names, n_before_loads) = columns(
+        D,
+        &plan.gauges,
+        &extra_parts,
+        &plan.roof_load,
+        roof_load.has_roof(),
+    );
     observer.columns(&names)?;
     let part = |name: &str| sim.part_names().iter().position(|n| n == name);
     let expected_rows = (plan.duration / plan.output_interval).ceil() as usize + 2;
@@ -574,6 +618,7 @@ where
         series: vec![Vec::new(); names.len()],
         pending: VecDeque::new(),
         roof: RoofMonitor::new(sim, expected_rows),
+        roof_load,
         levers: overturning_levers(sim),
         wall_gauges: plan.wall_gauges.clone().unwrap_or_else(|| wall_gauges(sim)),
         still_level: sim.still_level(),
@@ -603,6 +648,7 @@ where
         m.series = checkpoint.series;
         m.pending = checkpoint.pending.into();
         m.roof = checkpoint.roof;
+        m.roof_load = checkpoint.roof_load;
         m.next_output = checkpoint.next_output;
         m.next_frame = checkpoint.next_frame;
         m.compression = checkpoint.compression;
@@ -655,6 +701,7 @@ where
         observer,
         mut series,
         roof,
+        roof_load,
         compression,
         largest_wave,
         ..
@@ -674,6 +721,7 @@ where
         stats: sim.step_stats(),
         roof_contact: false,
         impacts: Vec::new(),
+        roof_load: None,
         roof,
         largest_wave_frame: largest_wave,
         hydrostatic_compression: compression.unwrap_or_else(|| sim.mean_compression()),
@@ -689,9 +737,11 @@ where
     if plan.frame_interval > 0.0 && matches!(result.status, RunStatus::Finished) {
         observer.frame(sim, sim.time())?;
     }
-    if result.roof.has_roof() {
+    if result.roof.has_roof() && roof_load.has_roof() {
+        let loads = roof_load.result(&plan.roof_tank, sim.spacing(), &plan.roof_load.sensors);
         let column = |name: &str| result.column(name).unwrap_or_default();
         result.impacts = find_impacts(
+            &loads,
             column("t"),
             column("roof_force_up"),
             column("roof_p_max"),
@@ -699,6 +749,7 @@ where
             column("roof_contact_extent"),
             &plan.roof_tank,
         );
+        result.roof_load = Some(loads);
     }
     Ok(result)
 }

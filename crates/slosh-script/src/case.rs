@@ -6,7 +6,7 @@ use crate::engine::{build_engine, Declared, Globals, PlotRequest, Shared};
 use crate::error::ScriptError;
 use crate::params::{ParamDecl, ParamValue};
 use crate::sandbox::ReadSandbox;
-use crate::spec::{numerics_from_map, GaugeSpec, Resolution, RunSpec, TankSpec};
+use crate::spec::{numerics_from_map, GaugeSpec, Resolution, RoofSensorSpec, RunSpec, TankSpec};
 use rhai::{CallFnOptions, Dynamic, Engine, Map, Scope, AST};
 use slosh_core::SphParams;
 use std::path::{Path, PathBuf};
@@ -227,6 +227,8 @@ pub struct Case {
     pub run: RunSpec,
     /// Extra wave gauges.
     pub gauges: Vec<GaugeSpec>,
+    /// Pressure sensors on the roof.
+    pub roof_sensors: Vec<RoofSensorSpec>,
     /// Script functions for the run.
     pub excitation: Excitation,
     /// Ground-motion records the script read (for `summary.ron`).
@@ -417,10 +419,21 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
             )));
         }
     }
+    for g in &d.roof_sensors {
+        if g.horizontal.len() + 1 != tank.dim() {
+            return Err(err(format!(
+                "roof_sensor \"{}\" gives {} horizontal coordinate(s) for a {}D tank",
+                g.name,
+                g.horizontal.len(),
+                tank.dim()
+            )));
+        }
+    }
     let has_ground_accel = checks::defines(path, &source, &ast, &checks::GROUND_ACCEL)?;
     let has_post = checks::defines(path, &source, &ast, &checks::POST)?;
     let params = d.params.clone();
     let gauges = d.gauges.clone();
+    let roof_sensors = d.roof_sensors.clone();
     let motions = d.motions.lock().expect("motion log").clone();
     drop(d);
     let mut warnings = checks::record_coverage(path, &motions, &run)?;
@@ -443,6 +456,7 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
         resolution,
         run,
         gauges,
+        roof_sensors,
         motions,
         sandbox: (*sandbox).clone(),
         warnings,

@@ -2,7 +2,7 @@
 
 use crate::params::{split_unit, trailing_comment, ParamDecl, ParamValue};
 use crate::sandbox::ReadSandbox;
-use crate::spec::{dynamic_to_f64, GaugeSpec};
+use crate::spec::{dynamic_to_f64, GaugeSpec, RoofSensorSpec};
 use rhai::{Dynamic, Engine, EvalAltResult, Map, NativeCallContext, Position};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -27,6 +27,8 @@ pub(crate) struct Declared {
     pub run: Option<Map>,
     /// Extra wave gauges.
     pub gauges: Vec<GaugeSpec>,
+    /// Pressure sensors on the roof.
+    pub roof_sensors: Vec<RoofSensorSpec>,
     /// Extra files written by `post` (name → rows).
     pub tables: Vec<(String, Vec<String>, Vec<Vec<f64>>)>,
     /// Line plots requested by `post`.
@@ -180,6 +182,38 @@ pub(crate) fn build_engine(
             }
         },
     );
+    let s = shared.clone();
+    engine.register_fn(
+        "roof_sensor",
+        move |name: &str, x: Dynamic, diameter: Dynamic| -> Result<(), Box<EvalAltResult>> {
+            match (dynamic_to_f64(&x), dynamic_to_f64(&diameter)) {
+                (Some(x), Some(d)) => add_roof_sensor(&s, name, vec![x], d),
+                _ => Err(runtime_error(
+                    "roof_sensor: x and the length must be numbers",
+                )),
+            }
+        },
+    );
+    let s = shared.clone();
+    engine.register_fn(
+        "roof_sensor",
+        move |name: &str,
+              x: Dynamic,
+              y: Dynamic,
+              diameter: Dynamic|
+              -> Result<(), Box<EvalAltResult>> {
+            match (
+                dynamic_to_f64(&x),
+                dynamic_to_f64(&y),
+                dynamic_to_f64(&diameter),
+            ) {
+                (Some(x), Some(y), Some(d)) => add_roof_sensor(&s, name, vec![x, y], d),
+                _ => Err(runtime_error(
+                    "roof_sensor: x, y and the diameter must be numbers",
+                )),
+            }
+        },
+    );
     // Post-processing output: extra CSV tables and line plots.
     let s = shared.clone();
     engine.register_fn(
@@ -313,6 +347,42 @@ fn add_gauge(s: &Shared, name: &str, horizontal: Vec<f64>) -> Result<(), Box<Eva
     d.gauges.push(GaugeSpec {
         name: name.to_string(),
         horizontal,
+    });
+    Ok(())
+}
+
+fn add_roof_sensor(
+    s: &Shared,
+    name: &str,
+    horizontal: Vec<f64>,
+    diameter: f64,
+) -> Result<(), Box<EvalAltResult>> {
+    if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+        return Err(runtime_error(format!(
+            "roof_sensor name \"{name}\" must be letters, digits or _ (it becomes the column \
+             p_{name})"
+        )));
+    }
+    if horizontal.iter().any(|x| !x.is_finite()) {
+        return Err(runtime_error(format!(
+            "roof_sensor \"{name}\": its position must be finite numbers (got {horizontal:?})"
+        )));
+    }
+    if !(diameter.is_finite() && diameter > 0.0) {
+        return Err(runtime_error(format!(
+            "roof_sensor \"{name}\": the diameter (2D: length) must be > 0 m (got {diameter})"
+        )));
+    }
+    let mut d = s.lock().map_err(|_| runtime_error("internal lock"))?;
+    if d.roof_sensors.iter().any(|g| g.name == name) {
+        return Err(runtime_error(format!(
+            "roof_sensor \"{name}\" is declared twice"
+        )));
+    }
+    d.roof_sensors.push(RoofSensorSpec {
+        name: name.to_string(),
+        horizontal,
+        diameter,
     });
     Ok(())
 }

@@ -116,6 +116,25 @@ impl<'a> MapReader<'a> {
         }
     }
 
+    /// A list of numbers, or `None` when the key is absent.
+    pub(crate) fn opt_numbers(&mut self, key: &str) -> Result<Option<Vec<f64>>, String> {
+        let what = self.what;
+        let Some(d) = self.get(key) else {
+            return Ok(None);
+        };
+        let list = d
+            .clone()
+            .into_array()
+            .map_err(|_| format!("{what}: '{key}' must be a list of numbers (got {d})"))?;
+        list.iter()
+            .map(|x| {
+                dynamic_to_f64(x)
+                    .ok_or_else(|| format!("{what}: '{key}' must be a list of numbers (got {x})"))
+            })
+            .collect::<Result<Vec<f64>, String>>()
+            .map(Some)
+    }
+
     /// A list of [x, y] points (m), or `None` when the key is absent.
     pub(crate) fn opt_points(&mut self, key: &str) -> Result<Option<Vec<[f64; 2]>>, String> {
         let what = self.what;
@@ -1231,6 +1250,10 @@ pub struct RunSpec {
     /// Cut-off of the low-pass filter of the `*_lp` load columns (Hz); `None` = ten times
     /// the tank's first sloshing frequency.
     pub load_filter_hz: Option<f64>,
+    /// Damping ratio ζ_r of the roof oscillator of the roof load spectrum (1).
+    pub roof_damping: f64,
+    /// Roof periods T_r at which `summary.ron` gives the equivalent static roof load (s).
+    pub roof_periods: Vec<f64>,
 }
 
 impl RunSpec {
@@ -1242,8 +1265,35 @@ impl RunSpec {
             output_interval: r.f64_or("output_interval", 0.01)?,
             frame_interval: r.f64_or("frame_interval", 0.0)?,
             load_filter_hz: r.opt_f64("load_filter_hz")?,
+            roof_damping: r.f64_or("roof_damping", DEFAULT_ROOF_DAMPING)?,
+            roof_periods: r
+                .opt_numbers("roof_periods")?
+                .unwrap_or_else(|| DEFAULT_ROOF_PERIODS.to_vec()),
         };
         r.finish()?;
+        if !(spec.roof_damping.is_finite() && (0.0..1.0).contains(&spec.roof_damping)) {
+            return Err(format!(
+                "run: roof_damping must be a damping ratio ≥ 0 and < 1 (got {}); 0.02 is 2 % of \
+                 critical",
+                spec.roof_damping
+            ));
+        }
+        if spec.roof_periods.len() > MAX_ROOF_PERIODS {
+            return Err(format!(
+                "run: roof_periods lists {} periods; at most {MAX_ROOF_PERIODS}",
+                spec.roof_periods.len()
+            ));
+        }
+        if let Some(t) = spec
+            .roof_periods
+            .iter()
+            .find(|t| !(t.is_finite() && **t >= 1e-4 && **t <= 100.0))
+        {
+            return Err(format!(
+                "run: roof_periods must be natural periods of the roof between 0.0001 and 100 s \
+                 (got {t})"
+            ));
+        }
         if !(spec.duration.is_finite() && spec.duration > 0.0) {
             return Err(format!(
                 "run: duration must be > 0 s (got {})",
@@ -1285,9 +1335,18 @@ impl Default for RunSpec {
             output_interval: 0.01,
             frame_interval: 0.0,
             load_filter_hz: None,
+            roof_damping: DEFAULT_ROOF_DAMPING,
+            roof_periods: DEFAULT_ROOF_PERIODS.to_vec(),
         }
     }
 }
+
+/// Most roof periods a script may list (each is one column per impact and per sweep row).
+pub const MAX_ROOF_PERIODS: usize = 32;
+
+pub use slosh_run::roof_load::{DEFAULT_ROOF_DAMPING, DEFAULT_ROOF_PERIODS};
+/// A pressure sensor on the roof, as the run loop measures it.
+pub use slosh_run::RoofSensor as RoofSensorSpec;
 
 /// An extra wave gauge: the free-surface elevation on a vertical line.
 #[derive(Clone, Debug, Serialize)]

@@ -12,11 +12,13 @@ mod dambreak;
 mod damping;
 mod experiments;
 mod forced_linear;
+pub mod gci;
 mod modern;
 mod real_scale;
 mod report;
 mod resolution;
 mod resume;
+mod roof_convergence;
 mod run;
 mod scripts;
 mod sections;
@@ -473,6 +475,10 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
         (
             "shipped scripts: 3D roofs and the polar cylinder",
             one(scripts::ROOFS_3D, scripts::roofs_3d),
+        ),
+        (
+            "roof loads at successive resolutions",
+            one(roof_convergence::GROUP, roof_convergence::study),
         ),
     ];
     // The 3D checks run in the full suite only (≈ 15 min on 2 cores).

@@ -38,14 +38,14 @@ fn scripts_dir() -> Result<PathBuf> {
 }
 
 /// A finished run of a shipped script: its summary and its folder.
-struct ScriptRun {
-    summary: Summary,
-    out: PathBuf,
+pub(crate) struct ScriptRun {
+    pub(crate) summary: Summary,
+    pub(crate) out: PathBuf,
 }
 
 impl ScriptRun {
     /// The columns `names` of the run's `series.csv`, read once.
-    fn columns<const N: usize>(&self, names: [&str; N]) -> Result<[Vec<f64>; N]> {
+    pub(crate) fn columns<const N: usize>(&self, names: [&str; N]) -> Result<[Vec<f64>; N]> {
         let path = self.out.join("series.csv");
         let table =
             slosh_io::read_table(&path).with_context(|| format!("reading {}", path.display()))?;
@@ -61,7 +61,12 @@ impl ScriptRun {
 
 /// Runs `scripts/<script>` with `NAME=VALUE` overrides into `<out>/scripts/<name>`, without
 /// plots or progress, as `slosh run` does.
-fn run_script(ctx: &Context, script: &str, name: &str, sets: &[String]) -> Result<ScriptRun> {
+pub(crate) fn run_script(
+    ctx: &Context,
+    script: &str,
+    name: &str,
+    sets: &[String],
+) -> Result<ScriptRun> {
     ctx.say(&format!("{script} {}", sets.join(" ")));
     let mut options = CaseOptions::default();
     for s in sets {
@@ -94,7 +99,7 @@ fn run_script(ctx: &Context, script: &str, name: &str, sets: &[String]) -> Resul
 }
 
 /// Particle-steps of a run (fluid and wall particles × steps), for the suite's timing line.
-fn particle_steps(s: &Summary) -> f64 {
+pub(crate) fn particle_steps(s: &Summary) -> f64 {
     s.steps as f64 * (s.particles_fluid + s.particles_wall) as f64
 }
 

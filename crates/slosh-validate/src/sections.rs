@@ -302,6 +302,7 @@ pub fn cone_roof_impact(ctx: &Context) -> GroupResult {
                 omega: omega_1,
             },
             wall_gauges: None,
+            roof_load: Default::default(),
         };
         let mut motion = |t: f64| [amplitude * omega * omega * (omega * t).sin(), 0.0, 0.0];
         let result = run_case(&mut sim, &plan, &mut motion, &mut (), &mut ())

@@ -84,6 +84,13 @@ class Run:
             2D roof whose points share an x: the roof point index) and ``p`` (Pa, a 2-D array
             of shape (len(t), len(x))); with the index also ``points`` (``roof_points.csv``
             as a dict of columns).
+        roof_load: the roof load from every step (``summary.ron``'s ``roof_load``) when the
+            tank has a roof, else None: a dict with ``periods`` (the roof periods T_r, s),
+            ``roof`` (``peak``, ``impulse``, ``design`` = F_eq at ``periods``, ``dlf``),
+            ``sensors``, ``impacts`` and the impacts' spread (``impact_impulse``,
+            ``impact_f_eq``: median, p84, max).
+        roof_spectrum: the roof load spectrum (``roof_spectrum.csv``) as a dict of columns
+            (``period``, ``roof_f_eq``, ``roof_dlf``, ``p_<sensor>_eq``, ...), else None.
         status: "completed", "failed" or "interrupted".
         error: the error message of a run that did not complete, else None.
     """
@@ -125,6 +132,12 @@ class Run:
             if points.exists():
                 names, columns = _read_csv_columns(str(points))
                 self.roof_pressure["points"] = dict(zip(names, columns))
+        self.roof_load: Optional[Dict[str, Any]] = self.summary.get("roof_load")
+        self.roof_spectrum: Optional[Dict[str, np.ndarray]] = None
+        spectrum = folder / "roof_spectrum.csv"
+        if spectrum.exists():
+            names, columns = _read_csv_columns(str(spectrum))
+            self.roof_spectrum = dict(zip(names, columns))
         self.folder: Optional[Path] = folder if keep_folder else None
 
     @classmethod

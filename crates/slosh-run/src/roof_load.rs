@@ -1,0 +1,867 @@
+//! Roof loads in the forms a roof is designed with, defined so that they can converge with
+//! resolution (`docs/roof-loads.md`):
+//!
+//! - the **impulse** ∫ F dt of the upward roof force, from the wall pressures of every step
+//!   (not the ±N-step window of paper §2.6, so no design output depends on N);
+//! - the **pressure on a sensor** of finite area (a disc in 3D, a segment in 2D), the
+//!   area-weighted mean of the roof load points on it, as a transducer reads it;
+//! - the **roof's response**: each load through a single-degree-of-freedom oscillator of
+//!   natural period T_r and damping ratio ζ_r, whose peak spring force k·max|u| is the
+//!   equivalent static load F_eq(T_r) (Chopra, *Dynamics of Structures*, §6.2); over T_r it is
+//!   the roof load spectrum, and F_eq / max|F| the dynamic load factor;
+//! - **impacts** as contact episodes of the roof force with thresholds relative to the tank's
+//!   freeboard head ρ g H′ over the roof's plan area and a merge rule tied to the sloshing
+//!   period, so that one particle touching the roof is not an impact;
+//! - **statistics** of the impacts (median, 84th percentile, maximum).
+
+use serde::{Deserialize, Serialize};
+use slosh_core::Simulation;
+
+/// Default damping ratio ζ_r of the roof oscillator: 2 % of critical, a welded steel roof
+/// (ASCE 4-16 Table 3-2 gives 2–4 % for welded steel at and below yield).
+pub const DEFAULT_ROOF_DAMPING: f64 = 0.02;
+
+/// Default roof periods T_r (s) at which `summary.ron` gives F_eq: a stiff to a flexible
+/// roof panel.
+pub const DEFAULT_ROOF_PERIODS: [f64; 4] = [0.02, 0.05, 0.1, 0.2];
+
+/// The roof load spectrum's periods: `SPECTRUM_POINTS` log-spaced from `SPECTRUM_RANGE.0` to
+/// `SPECTRUM_RANGE.1` (s), 20 per decade.
+pub const SPECTRUM_RANGE: (f64, f64) = (0.005, 2.0);
+/// Points of the roof load spectrum.
+pub const SPECTRUM_POINTS: usize = 53;
+
+/// An impact starts when the roof force, averaged over an output interval, exceeds this
+/// fraction of the freeboard force F_ref = ρ g H′ A_roof, and ends when it falls below
+/// [`IMPACT_OFF`]: a crest one freeboard high pressing on 2 % of the roof, far above what a
+/// single particle's pressure gives (its share of F_ref is of order dx²/(H′ L)).
+pub const IMPACT_ON: f64 = 0.02;
+/// End of an impact, as a fraction of F_ref (hysteresis: half of [`IMPACT_ON`]).
+pub const IMPACT_OFF: f64 = 0.01;
+/// Contact episodes closer than this fraction of the first sloshing period are one impact
+/// (a crest that bounces on the roof); crests at opposite walls come half a period apart.
+pub const IMPACT_MERGE: f64 = 0.25;
+/// Episodes whose impulse is below this fraction of F_ref·T₁ are splashes, not impacts (a
+/// crest one freeboard high pressing on the whole roof for 1 % of a period).
+pub const IMPACT_MIN_IMPULSE: f64 = 0.01;
+/// Largest step of the oscillator's integration as a fraction of its period over 2π
+/// (ω·h ≤ 0.1): the trapezoidal rule's period error is (ωh)²/12 ≤ 0.08 %.
+const MAX_OMEGA_STEP: f64 = 0.1;
+
+/// A pressure sensor on the roof: a disc (3D) or a segment (2D) centred below a horizontal
+/// position, as an experiment's transducer.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RoofSensor {
+    /// Name (series column `p_<name>`).
+    pub name: String,
+    /// Horizontal position of its centre (x in 2D; x, y in 3D) (m).
+    pub horizontal: Vec<f64>,
+    /// Diameter (3D) or length (2D) (m).
+    pub diameter: f64,
+}
+
+/// What a run measures of the roof load beyond the part totals.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RoofLoadPlan {
+    /// Pressure sensors on the roof.
+    pub sensors: Vec<RoofSensor>,
+    /// Damping ratio ζ_r of the roof oscillator (1).
+    pub damping_ratio: f64,
+    /// Roof periods T_r at which F_eq is reported (s).
+    pub design_periods: Vec<f64>,
+}
+
+impl Default for RoofLoadPlan {
+    fn default() -> Self {
+        RoofLoadPlan {
+            sensors: Vec::new(),
+            damping_ratio: DEFAULT_ROOF_DAMPING,
+            design_periods: DEFAULT_ROOF_PERIODS.to_vec(),
+        }
+    }
+}
+
+/// The periods of the roof load spectrum (s), ascending.
+pub fn spectrum_periods() -> Vec<f64> {
+    let (lo, hi) = SPECTRUM_RANGE;
+    (0..SPECTRUM_POINTS)
+        .map(|i| lo * (hi / lo).powf(i as f64 / (SPECTRUM_POINTS - 1) as f64))
+        .collect()
+}
+
+/// Single-degree-of-freedom oscillators of unit mass, ü + 2ζω u̇ + ω² u = f(t), one per
+/// period, driven by one load sampled at the solver's steps and taken linear between them.
+/// Integrated by the trapezoidal rule (Newmark's average acceleration: no numerical damping)
+/// with sub-steps of ω·h ≤ 0.1. The equivalent static load is ω²·max|u| (the load's unit).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct OscillatorBank {
+    omega: Vec<f64>,
+    zeta: f64,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    max_abs_u: Vec<f64>,
+    /// max|u| since the last [`Self::take_interval`].
+    interval_max_abs_u: Vec<f64>,
+    /// The last sample (time, load).
+    last: Option<(f64, f64)>,
+}
+
+impl OscillatorBank {
+    /// Oscillators of natural periods `periods` (s) and damping ratio `zeta`, at rest.
+    pub fn new(periods: &[f64], zeta: f64) -> Self {
+        let n = periods.len();
+        OscillatorBank {
+            omega: periods
+                .iter()
+                .map(|t| 2.0 * std::f64::consts::PI / t)
+                .collect(),
+            zeta,
+            u: vec![0.0; n],
+            v: vec![0.0; n],
+            max_abs_u: vec![0.0; n],
+            interval_max_abs_u: vec![0.0; n],
+            last: None,
+        }
+    }
+
+    /// Advances every oscillator to time `t` (s) where the load is `f`. The first sample sets
+    /// the load's start (the oscillators are at rest until then).
+    pub fn push(&mut self, t: f64, f: f64) {
+        let Some((t0, f0)) = self.last.replace((t, f)) else {
+            return;
+        };
+        let dt = t - t0;
+        if dt <= 0.0 || !f.is_finite() {
+            return;
+        }
+        let zeta = self.zeta;
+        for i in 0..self.omega.len() {
+            let w = self.omega[i];
+            let subs = ((w * dt) / MAX_OMEGA_STEP).ceil().max(1.0);
+            let h = dt / subs;
+            // Trapezoidal rule on x' = A x + b f, A = [[0, 1], [−ω², −2ζω]], b = [0, 1]:
+            // (I − hA/2) x₁ = (I + hA/2) x₀ + h/2 (f₀ + f₁) b.
+            let det = 1.0 + h * zeta * w + 0.25 * h * h * w * w;
+            let (mut u, mut v) = (self.u[i], self.v[i]);
+            let mut max: f64 = 0.0;
+            for s in 0..subs as usize {
+                let fa = f0 + (f - f0) * (s as f64 / subs);
+                let fb = f0 + (f - f0) * ((s + 1) as f64 / subs);
+                let ru = u + 0.5 * h * v;
+                let rv = -0.5 * h * w * w * u + (1.0 - h * zeta * w) * v + 0.5 * h * (fa + fb);
+                u = ((1.0 + h * zeta * w) * ru + 0.5 * h * rv) / det;
+                v = (-0.5 * h * w * w * ru + rv) / det;
+                max = max.max(u.abs());
+            }
+            self.u[i] = u;
+            self.v[i] = v;
+            self.max_abs_u[i] = self.max_abs_u[i].max(max);
+            self.interval_max_abs_u[i] = self.interval_max_abs_u[i].max(max);
+        }
+    }
+
+    /// The equivalent static load ω²·max|u| of each oscillator so far.
+    pub fn equivalent_static(&self) -> Vec<f64> {
+        self.omega
+            .iter()
+            .zip(&self.max_abs_u)
+            .map(|(w, u)| w * w * u)
+            .collect()
+    }
+
+    /// The largest |ω²u| of the oscillators `from..` since the previous call; restarts the
+    /// maxima of all.
+    fn take_interval(&mut self, from: usize) -> Vec<f64> {
+        let out = (from..self.omega.len())
+            .map(|i| self.omega[i] * self.omega[i] * self.interval_max_abs_u[i])
+            .collect();
+        self.interval_max_abs_u.iter_mut().for_each(|m| *m = 0.0);
+        out
+    }
+}
+
+/// One measured load of the roof: the upward roof force or a sensor's mean pressure.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+struct Channel {
+    /// Oscillators at the spectrum's periods, then at the design periods.
+    bank: OscillatorBank,
+    /// ∫ max(f, 0) dt so far.
+    impulse: f64,
+    /// Largest load so far and its time.
+    peak: f64,
+    t_peak: f64,
+    /// Largest load since the last output row.
+    interval_peak: f64,
+}
+
+/// What the monitor keeps at every output row: the cumulative impulse, the largest load and
+/// the largest design-period F_eq since the previous row, for each channel.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+struct RowCut {
+    time: f64,
+    impulse: Vec<f64>,
+    peak: Vec<f64>,
+    f_eq: Vec<Vec<f64>>,
+}
+
+/// Measures the roof load of every step: the roof force's and each sensor's impulse, peak and
+/// oscillator response, cut at every output row for the impacts.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RoofLoadMonitor {
+    /// Load-point index and A·n_z of each roof point (the upward force is Σ p A n_z).
+    roof: Vec<(usize, f64)>,
+    /// Each sensor's load points and their area weights (summing to 1).
+    sensors: Vec<Vec<(usize, f64)>>,
+    /// Sensor areas (m²; 2D m).
+    sensor_area: Vec<f64>,
+    /// Roof plan area Σ A |n_z| (m²; 2D m).
+    plan_area: f64,
+    channels: Vec<Channel>,
+    rows: Vec<RowCut>,
+    /// Steps of the load evaluator already taken in.
+    seen: u64,
+    design_periods: Vec<f64>,
+    damping_ratio: f64,
+}
+
+/// The part index of the roof in a simulation's parts, if it has one.
+fn roof_part<const D: usize>(sim: &Simulation<D>) -> Option<u16> {
+    sim.part_names()
+        .iter()
+        .position(|n| n == "roof")
+        .map(|k| k as u16)
+}
+
+impl RoofLoadMonitor {
+    /// The roof points of `sim` and the sensors of `plan`. A sensor that covers no roof load
+    /// point, or is declared in a tank without a roof, is an error (its message names it).
+    pub fn new<const D: usize>(sim: &Simulation<D>, plan: &RoofLoadPlan) -> Result<Self, String> {
+        let loads = sim.loads();
+        let roof_id = roof_part(sim);
+        let roof: Vec<(usize, f64)> = (0..loads.len())
+            .filter(|&k| Some(loads.parts()[k]) == roof_id)
+            .map(|k| (k, loads.areas()[k] * loads.normals()[k][D - 1]))
+            .collect();
+        let plan_area = roof
+            .iter()
+            .map(|&(k, _)| loads.areas()[k] * loads.normals()[k][D - 1].abs())
+            .sum();
+        let mut sensors = Vec::new();
+        let mut sensor_area = Vec::new();
+        for s in &plan.sensors {
+            if s.horizontal.len() + 1 != D {
+                return Err(format!(
+                    "roof_sensor \"{}\" gives {} horizontal coordinate(s) for a {D}D tank",
+                    s.name,
+                    s.horizontal.len()
+                ));
+            }
+            if !(s.diameter.is_finite() && s.diameter > 0.0) {
+                return Err(format!(
+                    "roof_sensor \"{}\": the diameter must be > 0 m (got {})",
+                    s.name, s.diameter
+                ));
+            }
+            let radius = 0.5 * s.diameter;
+            // 2D: each roof point stands for a patch of the roof whose horizontal extent is
+            // its length times |n_z|; its weight is the part of that patch on the sensor's
+            // segment, so that the sensor covers the same length at every resolution. 3D: a
+            // point whose centre is on the disc counts with its whole area.
+            let mut on: Vec<(usize, f64)> = roof
+                .iter()
+                .filter_map(|&(k, _)| {
+                    let p = loads.positions()[k];
+                    let area = loads.areas()[k];
+                    if D == 2 {
+                        let half = 0.5 * area * loads.normals()[k][D - 1].abs();
+                        let lo = (p[0] - half).max(s.horizontal[0] - radius);
+                        let hi = (p[0] + half).min(s.horizontal[0] + radius);
+                        (hi > lo && half > 0.0).then(|| (k, area * (hi - lo) / (2.0 * half)))
+                    } else {
+                        let d2: f64 = (0..D - 1).map(|a| (p[a] - s.horizontal[a]).powi(2)).sum();
+                        (d2.sqrt() <= radius).then_some((k, area))
+                    }
+                })
+                .collect();
+            if on.is_empty() && D == 3 {
+                // A disc narrower than the spacing reads the nearest roof point within one
+                // spacing of its centre.
+                let distance = |k: usize| -> f64 {
+                    let p = loads.positions()[k];
+                    (0..D - 1)
+                        .map(|a| (p[a] - s.horizontal[a]).powi(2))
+                        .sum::<f64>()
+                        .sqrt()
+                };
+                if let Some(k) = roof
+                    .iter()
+                    .map(|&(k, _)| k)
+                    .min_by(|&a, &b| distance(a).total_cmp(&distance(b)))
+                    .filter(|&k| distance(k) <= sim.spacing())
+                {
+                    on.push((k, loads.areas()[k]));
+                }
+            }
+            if on.is_empty() {
+                return Err(if roof.is_empty() {
+                    format!(
+                        "roof_sensor \"{}\": the tank has no roof to put it on",
+                        s.name
+                    )
+                } else {
+                    format!(
+                        "roof_sensor \"{}\" at {:?} (diameter {} m) covers no point of the \
+                         roof: put its centre below the roof, inside the tank",
+                        s.name, s.horizontal, s.diameter
+                    )
+                });
+            }
+            let area: f64 = on.iter().map(|(_, a)| a).sum();
+            sensor_area.push(area);
+            sensors.push(on.into_iter().map(|(k, a)| (k, a / area)).collect());
+        }
+        let mut periods = spectrum_periods();
+        periods.extend_from_slice(&plan.design_periods);
+        let channels = (0..=plan.sensors.len())
+            .map(|_| Channel {
+                bank: OscillatorBank::new(&periods, plan.damping_ratio),
+                impulse: 0.0,
+                peak: 0.0,
+                t_peak: 0.0,
+                interval_peak: 0.0,
+            })
+            .collect();
+        Ok(RoofLoadMonitor {
+            roof,
+            sensors,
+            sensor_area,
+            plan_area,
+            channels,
+            rows: Vec::new(),
+            seen: 0,
+            design_periods: plan.design_periods.clone(),
+            damping_ratio: plan.damping_ratio,
+        })
+    }
+
+    /// True when the tank has a roof with load points.
+    pub fn has_roof(&self) -> bool {
+        !self.roof.is_empty()
+    }
+
+    /// The sensors' areas (m²; 2D m), in declaration order.
+    pub fn sensor_areas(&self) -> &[f64] {
+        &self.sensor_area
+    }
+
+    /// The mean pressure on sensor `i` from load-point pressures `pressure` (Pa).
+    pub fn sensor_pressure(&self, i: usize, pressure: &[f64]) -> f64 {
+        self.sensors[i].iter().map(|&(k, w)| w * pressure[k]).sum()
+    }
+
+    /// Number of sensors.
+    pub fn sensor_count(&self) -> usize {
+        self.sensors.len()
+    }
+
+    /// Takes in the wall pressures of the solver's latest step, once per step.
+    pub fn after_step<const D: usize>(&mut self, sim: &Simulation<D>) {
+        let loads = sim.loads();
+        let (recorded, time) = (loads.recorded_steps(), loads.latest_time());
+        if self.roof.is_empty() || recorded == self.seen {
+            return;
+        }
+        self.seen = recorded;
+        let Some(t) = time else { return };
+        let p = loads.instantaneous_pressure();
+        for i in 0..self.channels.len() {
+            let f = if i == 0 {
+                self.roof.iter().map(|&(k, an)| p[k] * an).sum()
+            } else {
+                self.sensor_pressure(i - 1, p)
+            };
+            let c = &mut self.channels[i];
+            if let Some((t0, f0)) = c.bank.last {
+                if t > t0 {
+                    c.impulse += 0.5 * (f0.max(0.0) + f.max(0.0)) * (t - t0);
+                }
+            }
+            c.bank.push(t, f);
+            if f > c.peak {
+                c.peak = f;
+                c.t_peak = t;
+            }
+            c.interval_peak = c.interval_peak.max(f);
+        }
+    }
+
+    /// The roof impulse ∫ max(F, 0) dt from the start of the run to output row `row` (N·s;
+    /// 2D N·s/m): the `roof_impulse` column, whose difference between two rows is the
+    /// impulse of that window.
+    pub fn row_impulse(&self, row: usize) -> f64 {
+        self.rows.get(row).map_or(f64::NAN, |r| r.impulse[0])
+    }
+
+    /// Closes an output row at time `time` (s): keeps the cumulative impulse and the largest
+    /// load and design-period F_eq since the previous row.
+    pub fn cut_row(&mut self, time: f64) {
+        if self.roof.is_empty() {
+            return;
+        }
+        let mut cut = RowCut {
+            time,
+            impulse: Vec::with_capacity(self.channels.len()),
+            peak: Vec::with_capacity(self.channels.len()),
+            f_eq: Vec::with_capacity(self.channels.len()),
+        };
+        let n_spec = SPECTRUM_POINTS;
+        for c in &mut self.channels {
+            cut.impulse.push(c.impulse);
+            cut.peak.push(std::mem::take(&mut c.interval_peak));
+            cut.f_eq.push(c.bank.take_interval(n_spec));
+        }
+        self.rows.push(cut);
+    }
+
+    /// The roof load of the run: spectra, impulses, impacts and their statistics. `tank`
+    /// gives the freeboard head and the sloshing period the impact rule is scaled with;
+    /// `sensors` names the channels.
+    pub fn result(
+        &self,
+        tank: &crate::roof::RoofTank,
+        spacing: f64,
+        sensors: &[RoofSensor],
+    ) -> RoofLoadResult {
+        let periods = spectrum_periods();
+        let n_spec = periods.len();
+        let period_1 = 2.0 * std::f64::consts::PI / tank.omega;
+        let reference_force =
+            tank.density * tank.gravity * tank.freeboard.max(spacing) * self.plan_area;
+        let load = |c: &Channel| {
+            let all = c.bank.equivalent_static();
+            let peak = c.peak;
+            let dlf = |f: f64| if peak > 0.0 { f / peak } else { f64::NAN };
+            ChannelLoad {
+                peak,
+                t_peak: c.t_peak,
+                impulse: c.impulse,
+                spectrum: all[..n_spec].to_vec(),
+                design: all[n_spec..].to_vec(),
+                dlf: all[n_spec..].iter().map(|&f| dlf(f)).collect(),
+            }
+        };
+        let roof = self.channels.first().map(load);
+        let sensor_loads: Vec<SensorLoad> = sensors
+            .iter()
+            .zip(self.channels.iter().skip(1))
+            .zip(&self.sensor_area)
+            .map(|((s, c), &area)| SensorLoad {
+                sensor: s.clone(),
+                area,
+                load: load(c),
+            })
+            .collect();
+        let episodes = self.episodes(reference_force, period_1);
+        RoofLoadResult {
+            damping_ratio: self.damping_ratio,
+            design_periods: self.design_periods.clone(),
+            spectrum_periods: periods,
+            reference_force,
+            plan_area: self.plan_area,
+            period_1,
+            roof,
+            sensors: sensor_loads,
+            episodes,
+        }
+    }
+
+    /// The roof's contact episodes (see the module docs): row ranges with their loads.
+    fn episodes(&self, reference_force: f64, period_1: f64) -> Vec<Episode> {
+        let rows = &self.rows;
+        if rows.len() < 2 || reference_force <= 0.0 {
+            return Vec::new();
+        }
+        // Mean roof force over each output interval, from the step impulse.
+        let mean = |r: usize| {
+            let dt = rows[r].time - rows[r - 1].time;
+            if dt > 0.0 {
+                (rows[r].impulse[0] - rows[r - 1].impulse[0]) / dt
+            } else {
+                0.0
+            }
+        };
+        let (on, off) = (IMPACT_ON * reference_force, IMPACT_OFF * reference_force);
+        let mut spans: Vec<(usize, usize)> = Vec::new();
+        let mut r = 1;
+        while r < rows.len() {
+            if mean(r) > on {
+                let start = r;
+                while r < rows.len() && mean(r) > off {
+                    r += 1;
+                }
+                match spans.last_mut() {
+                    Some(last)
+                        if rows[start - 1].time - rows[last.1 - 1].time
+                            < IMPACT_MERGE * period_1 =>
+                    {
+                        last.1 = r
+                    }
+                    _ => spans.push((start, r)),
+                }
+            } else {
+                r += 1;
+            }
+        }
+        let min_impulse = IMPACT_MIN_IMPULSE * reference_force * period_1;
+        let n_channels = self.channels.len();
+        let mut episodes: Vec<Episode> = spans
+            .iter()
+            .map(|&(a, b)| Episode {
+                t_start: rows[a - 1].time,
+                t_end: rows[b - 1].time,
+                impulse: (0..n_channels)
+                    .map(|c| rows[b - 1].impulse[c] - rows[a - 1].impulse[c])
+                    .collect(),
+                peak: (0..n_channels)
+                    .map(|c| rows[a..b].iter().map(|row| row.peak[c]).fold(0.0, f64::max))
+                    .collect(),
+                f_eq: Vec::new(),
+                rows: (a, b),
+            })
+            .filter(|e| e.impulse[0] >= min_impulse)
+            .collect();
+        // The roof rings on after the contact: its F_eq is the largest response from the
+        // start of the episode to the start of the next one (or the end of the run).
+        for i in 0..episodes.len() {
+            let from = episodes[i].rows.0;
+            let to = episodes.get(i + 1).map_or(rows.len(), |e| e.rows.0);
+            episodes[i].f_eq = (0..n_channels)
+                .map(|c| {
+                    (0..self.design_periods.len())
+                        .map(|k| {
+                            rows[from..to]
+                                .iter()
+                                .map(|row| row.f_eq[c][k])
+                                .fold(0.0, f64::max)
+                        })
+                        .collect()
+                })
+                .collect();
+        }
+        episodes
+    }
+}
+
+/// One contact episode of the roof (an impact).
+#[derive(Clone, Debug)]
+pub struct Episode {
+    /// Start and end (s): the output rows around the contact.
+    pub t_start: f64,
+    /// End (s).
+    pub t_end: f64,
+    /// ∫ max(F, 0) dt of each channel over the episode (the roof force first, then each
+    /// sensor's pressure): N·s (2D N·s/m), Pa·s.
+    pub impulse: Vec<f64>,
+    /// Largest value of each channel over the episode (per step).
+    pub peak: Vec<f64>,
+    /// F_eq at the design periods of each channel, from the episode's start to the next one.
+    pub f_eq: Vec<Vec<f64>>,
+    rows: (usize, usize),
+}
+
+/// The load of one channel over a run.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct ChannelLoad {
+    /// Largest value over every step (N, 2D N/m; or Pa).
+    pub peak: f64,
+    /// Its time (s).
+    pub t_peak: f64,
+    /// ∫ max(F, 0) dt over the run (N·s, 2D N·s/m; or Pa·s).
+    pub impulse: f64,
+    /// The load spectrum: F_eq at each of [`spectrum_periods`] (written to
+    /// `roof_spectrum.csv`, left out of `summary.ron`).
+    #[serde(default, skip_serializing)]
+    pub spectrum: Vec<f64>,
+    /// F_eq at the design periods.
+    pub design: Vec<f64>,
+    /// Dynamic load factor F_eq / peak at the design periods.
+    pub dlf: Vec<f64>,
+}
+
+/// A sensor with its load.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct SensorLoad {
+    /// The sensor as declared.
+    pub sensor: RoofSensor,
+    /// The area of the roof points on it (m²; 2D m).
+    pub area: f64,
+    /// Its mean pressure's peak, impulse and response.
+    pub load: ChannelLoad,
+}
+
+/// The roof load of a run.
+#[derive(Clone, Debug)]
+pub struct RoofLoadResult {
+    /// ζ_r.
+    pub damping_ratio: f64,
+    /// Design periods T_r (s).
+    pub design_periods: Vec<f64>,
+    /// Periods of the spectrum (s).
+    pub spectrum_periods: Vec<f64>,
+    /// F_ref = ρ g H′ A_roof (N; 2D N/m), the scale of the impact thresholds.
+    pub reference_force: f64,
+    /// Roof plan area (m²; 2D m).
+    pub plan_area: f64,
+    /// First sloshing period T₁ (s), the scale of the merge rule.
+    pub period_1: f64,
+    /// The upward roof force's load; `None` without a roof.
+    pub roof: Option<ChannelLoad>,
+    /// Each sensor's.
+    pub sensors: Vec<SensorLoad>,
+    /// The impacts.
+    pub episodes: Vec<Episode>,
+}
+
+/// Median, 84th percentile and maximum of a sample (the percentile interpolated linearly
+/// between order statistics, Hyndman & Fan 1996 type 7); NaN for an empty sample.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct Spread {
+    /// Median.
+    pub median: f64,
+    /// 84th percentile (the median plus one standard deviation of a normal sample).
+    pub p84: f64,
+    /// Largest.
+    pub max: f64,
+}
+
+impl Spread {
+    /// The spread of `values` (finite ones).
+    pub fn of(values: &[f64]) -> Spread {
+        let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+        if v.is_empty() {
+            return Spread {
+                median: f64::NAN,
+                p84: f64::NAN,
+                max: f64::NAN,
+            };
+        }
+        v.sort_by(f64::total_cmp);
+        let q = |p: f64| {
+            let x = p * (v.len() - 1) as f64;
+            let (i, f) = (x.floor() as usize, x - x.floor());
+            if i + 1 < v.len() {
+                v[i] + f * (v[i + 1] - v[i])
+            } else {
+                v[i]
+            }
+        };
+        Spread {
+            median: q(0.5),
+            p84: q(0.84),
+            max: v[v.len() - 1],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    /// Drives one oscillator with `f(t)` sampled every `dt` to `end` and returns F_eq.
+    fn response(period: f64, zeta: f64, dt: f64, end: f64, f: impl Fn(f64) -> f64) -> f64 {
+        let mut bank = OscillatorBank::new(&[period], zeta);
+        let n = (end / dt).round() as usize;
+        for i in 0..=n {
+            let t = i as f64 * dt;
+            bank.push(t, f(t));
+        }
+        bank.equivalent_static()[0]
+    }
+
+    /// A load applied suddenly and held: the dynamic load factor is 1 + exp(−πζ/√(1−ζ²))
+    /// (Chopra, Dynamics of Structures, §4.3). The load rises over one sample of 1/200 of
+    /// the period, which lowers the factor by under 0.1 %; tolerance 0.3 %.
+    #[test]
+    fn suddenly_applied_load_doubles_the_static_load() {
+        for zeta in [0.0, 0.02, 0.1] {
+            let (period, dt) = (0.1, 0.1 / 200.0);
+            let feq = response(period, zeta, dt, 3.0 * period, |t| {
+                if t > 0.0 {
+                    1.0
+                } else {
+                    0.0
+                }
+            });
+            let dlf = 1.0 + (-PI * zeta / (1.0 - zeta * zeta).sqrt()).exp();
+            assert!(
+                (feq / dlf - 1.0).abs() < 3e-3,
+                "ζ {zeta}: {feq} against {dlf}"
+            );
+        }
+    }
+
+    /// A short pulse of impulse I on an oscillator of period much longer than the pulse gives
+    /// u_max = I/(mω) (undamped), F_eq = ω I (Chopra §4.11). A half-sine of duration
+    /// t_d = T_r/50: the pulse's own length changes F_eq by (πt_d/T_r)²/… < 0.2 %; tolerance
+    /// 0.5 %.
+    #[test]
+    fn short_pulse_gives_omega_times_impulse() {
+        let (period, td) = (1.0, 0.02);
+        let amplitude = 100.0;
+        let impulse = amplitude * 2.0 * td / PI;
+        let pulse = |t: f64| {
+            if t < td {
+                amplitude * (PI * t / td).sin()
+            } else {
+                0.0
+            }
+        };
+        let feq = response(period, 0.0, td / 100.0, 2.0, pulse);
+        let expected = 2.0 * PI / period * impulse;
+        assert!(
+            (feq / expected - 1.0).abs() < 5e-3,
+            "{feq} against {expected}"
+        );
+    }
+
+    /// A slow load on a stiff roof is static: DLF → 1 for a load rising over 50 T_r.
+    /// Tolerance 2 %: the ramp's own overshoot is T_r/(π·t_rise) ≈ 0.6 % (Chopra §4.5).
+    #[test]
+    fn slow_load_is_static() {
+        let period = 0.01;
+        let feq = response(period, 0.02, 1e-4, 1.0, |t| (t / 0.5).min(1.0));
+        assert!((feq - 1.0).abs() < 0.02, "{feq}");
+    }
+
+    /// Steady resonance of a damped oscillator: the amplitude is 1/(2ζ) times the static
+    /// one. The load is sampled 10 times per period and taken linear between samples, which
+    /// scales its fundamental by sinc²(π/10) = 0.9675 (the Fourier series of a linear
+    /// interpolant); the sub-steps (ω dt = 0.63 → 7 of them) keep the trapezoidal rule's
+    /// period error ≤ 0.08 %, which detunes by ≪ ζ. Tolerance 1 %.
+    #[test]
+    fn resonance_amplitude_is_one_over_two_zeta() {
+        let (period, zeta) = (0.05, 0.05);
+        let w = 2.0 * PI / period;
+        let feq = response(period, zeta, period / 10.0, 40.0 * period / zeta, |t| {
+            (w * t).sin()
+        });
+        let x = PI / 10.0;
+        let expected = (x.sin() / x).powi(2) / (2.0 * zeta);
+        assert!(
+            (feq / expected - 1.0).abs() < 0.01,
+            "{feq} against {expected}"
+        );
+    }
+
+    /// The type-7 percentile of 1..=11 is 1 + 0.84·10 = 9.4; median 6.
+    #[test]
+    fn spread_of_a_sample() {
+        let v: Vec<f64> = (1..=11).map(|i| i as f64).rev().collect();
+        let s = Spread::of(&v);
+        assert_eq!((s.median, s.max), (6.0, 11.0));
+        assert!((s.p84 - 9.4).abs() < 1e-12);
+        assert!(Spread::of(&[]).median.is_nan());
+    }
+}
+
+/// The roof load of a run as `summary.ron` gives it (`docs/formats.md`).
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct RoofLoadSummary {
+    /// Damping ratio ζ_r of the roof oscillator.
+    pub damping_ratio: f64,
+    /// Roof periods T_r of `f_eq`, `dlf` and the sensors' `design` (s).
+    pub periods: Vec<f64>,
+    /// F_ref = ρ g H′ A_roof (N; 2D N/m), the scale of the impact thresholds.
+    pub reference_force: f64,
+    /// Roof plan area (m²; 2D m).
+    pub plan_area: f64,
+    /// The upward roof force (N; 2D N/m): its per-step peak, impulse over the run, F_eq and
+    /// dynamic load factor at `periods`.
+    pub roof: ChannelLoad,
+    /// Each sensor's mean pressure (Pa): peak, impulse (Pa·s), F_eq as a pressure, DLF.
+    pub sensors: Vec<SensorLoad>,
+    /// Number of impacts.
+    pub impacts: usize,
+    /// Spread of the impacts' roof impulse (N·s; 2D N·s/m).
+    pub impact_impulse: Spread,
+    /// Spread of the impacts' F_eq at each of `periods` (N; 2D N/m).
+    pub impact_f_eq: Vec<Spread>,
+    /// Spread of the impacts' peak pressure on each sensor (Pa).
+    pub impact_sensor_peak: Vec<Spread>,
+}
+
+/// A roof period as a column-name tag: milliseconds, `50ms`, `12p5ms`.
+pub fn period_tag(period: f64) -> String {
+    let ms = period * 1000.0;
+    if (ms - ms.round()).abs() < 1e-9 * ms.max(1.0) {
+        format!("{}ms", ms.round() as i64)
+    } else {
+        format!("{ms}ms").replace('.', "p")
+    }
+}
+
+impl RoofLoadSummary {
+    /// The summary of a run's roof load.
+    pub fn of(result: &RoofLoadResult) -> RoofLoadSummary {
+        let n_periods = result.design_periods.len();
+        let e = &result.episodes;
+        RoofLoadSummary {
+            damping_ratio: result.damping_ratio,
+            periods: result.design_periods.clone(),
+            reference_force: result.reference_force,
+            plan_area: result.plan_area,
+            roof: result.roof.clone().unwrap_or_default(),
+            sensors: result.sensors.clone(),
+            impacts: e.len(),
+            impact_impulse: Spread::of(&e.iter().map(|e| e.impulse[0]).collect::<Vec<_>>()),
+            impact_f_eq: (0..n_periods)
+                .map(|k| Spread::of(&e.iter().map(|e| e.f_eq[0][k]).collect::<Vec<_>>()))
+                .collect(),
+            impact_sensor_peak: (0..result.sensors.len())
+                .map(|s| Spread::of(&e.iter().map(|e| e.peak[s + 1]).collect::<Vec<_>>()))
+                .collect(),
+        }
+    }
+
+    /// The summary's numbers as named scalars (the columns of `sweep.csv` and the rows of
+    /// `slosh converge`): `roof_impulse`, `roof_f_eq_<T>`, `roof_dlf_<T>`,
+    /// `roof_impact_impulse_{median,p84,max}`, `roof_impact_f_eq_<T>_{…}`, and per sensor
+    /// `p_<name>_{peak,impulse}`, `p_<name>_eq_<T>`, `p_<name>_impact_peak_{…}`, where `<T>` is
+    /// the roof period in ms ([`period_tag`]).
+    pub fn scalars(&self) -> Vec<(String, f64)> {
+        let mut out = vec![
+            ("roof_impulse".to_string(), self.roof.impulse),
+            ("roof_peak_force".to_string(), self.roof.peak),
+            ("roof_impacts".to_string(), self.impacts as f64),
+        ];
+        let spread = |out: &mut Vec<(String, f64)>, name: String, s: &Spread| {
+            out.push((format!("{name}_median"), s.median));
+            out.push((format!("{name}_p84"), s.p84));
+            out.push((format!("{name}_max"), s.max));
+        };
+        for (k, &t) in self.periods.iter().enumerate() {
+            let tag = period_tag(t);
+            out.push((format!("roof_f_eq_{tag}"), self.roof.design[k]));
+            out.push((format!("roof_dlf_{tag}"), self.roof.dlf[k]));
+        }
+        spread(&mut out, "roof_impact_impulse".into(), &self.impact_impulse);
+        for (k, &t) in self.periods.iter().enumerate() {
+            if let Some(s) = self.impact_f_eq.get(k) {
+                spread(&mut out, format!("roof_impact_f_eq_{}", period_tag(t)), s);
+            }
+        }
+        for (i, s) in self.sensors.iter().enumerate() {
+            let name = format!("p_{}", s.sensor.name);
+            out.push((format!("{name}_peak"), s.load.peak));
+            out.push((format!("{name}_impulse"), s.load.impulse));
+            for (k, &t) in self.periods.iter().enumerate() {
+                out.push((format!("{name}_eq_{}", period_tag(t)), s.load.design[k]));
+            }
+            if let Some(sp) = self.impact_sensor_peak.get(i) {
+                spread(&mut out, format!("{name}_impact_peak"), sp);
+            }
+        }
+        out
+    }
+}
