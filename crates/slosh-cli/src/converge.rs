@@ -126,15 +126,24 @@ pub fn level_values(
     Ok((values, h))
 }
 
-/// Summary numbers that are not results of the physics (bookkeeping of the run).
-const NOT_RESULTS: [&str; 7] = [
+/// Summary numbers that are not results of the physics (bookkeeping and speed of the run,
+/// inputs that do not change with the lattice).
+const NOT_RESULTS: [&str; 15] = [
     "wall_time_s",
     "steps",
     "particles_fluid",
     "particles_wall",
     "checkpoints_written",
     "steps_above_mach_limit",
+    "steps_above_dt_bound",
     "roof_impacts",
+    "particle_steps_per_s",
+    "fluid_particle_steps_per_s",
+    "threads",
+    "dim",
+    "sim_time",
+    "settle",
+    "duration",
 ];
 
 /// The series `convergence` overlays for all levels, when the runs have them.
@@ -206,7 +215,7 @@ pub fn cli_converge(
     }
     let options = CaseOptions {
         allow_read: request.allow_read.clone(),
-        overrides: sets,
+        overrides: sets.clone(),
         ..CaseOptions::default()
     };
     let declared = list_params_with(case, &options)
@@ -237,10 +246,16 @@ pub fn cli_converge(
     let (values, spacings) = level_values(&decl.value, request.levels, request.ratio, refine)?;
     let list: Vec<String> = values.iter().map(|v| v.to_string()).collect();
     let mut vary = vec![format!("{}={}", request.param, list.join(","))];
-    // The other parameters as one-value sweeps; `--set <param>=V` gave the coarsest level.
-    for s in &request.sets {
-        if s.split_once('=').map(|(n, _)| n) != Some(request.param.as_str()) {
-            vary.push(s.clone());
+    // The other parameters as one-value sweeps (a string quoted, so that a comma or a colon
+    // in it stays one value); `--set <param>=V` gave the coarsest level.
+    for (name, value) in &sets {
+        if *name != request.param {
+            let item = format!("{name}={value}");
+            let parsed = crate::sweep::parse_vary(&item)?;
+            if parsed.values.len() != 1 {
+                bail!("--set {name}={value}: give one value (a string with commas in quotes)");
+            }
+            vary.push(item);
         }
     }
     let out = match &request.out {
@@ -419,7 +434,8 @@ fn write_markdown(
         "Order p, Richardson extrapolation and the fine-grid convergence index GCI (factor of \
          safety 1.25) over the finest three levels, after Celik et al. (2008), J. Fluids Eng. \
          130, 078001. *monotone*: the changes shrink with one sign; *oscillatory*: they shrink \
-         and alternate (GCI less reliable); *divergent*: they do not shrink (no GCI: refine \
+         and alternate (the GCI column is then half the levels' range over the finest value, \
+         after Stern et al. 2001, J. Fluids Eng. 123, 793); *divergent*: they do not shrink (no GCI: refine \
          further or read the quantity as not converged). The GCI band is in the quantity's \
          unit; `docs/roof-loads.md` says which quantities are design loads.\n"
     );

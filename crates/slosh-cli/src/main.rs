@@ -626,6 +626,11 @@ fn cmd_converge(args: ConvergeArgs) -> Result<()> {
         std::env::current_exe().context("cannot find the slosh executable that runs the levels")?;
     let outcome = cli_converge(&exe, &args.case, &request, &mode)?;
     if matches!(mode, SweepMode::Slurm { .. }) {
+        eprintln!(
+            "then, for the convergence report: the same slosh converge command with --collect \
+             in place of --slurm (it collects the levels and writes {}/convergence.md)",
+            outcome.sweep.out_dir.display()
+        );
         return Ok(());
     }
     let unfinished: Vec<String> = outcome

@@ -42,10 +42,15 @@ impl SweepPlot {
     pub fn check_columns(&self, known: &[String]) -> Result<()> {
         let names = std::iter::once(&self.x).chain(&self.ys).chain(&self.groups);
         for name in names {
-            if !known.contains(name) && !name.starts_with("post_") {
+            // `post_*` and the roof load's scalars (`roof_*`, `p_<sensor>_*`) are known only
+            // once a case has run.
+            let later =
+                name.starts_with("post_") || name.starts_with("roof_") || name.starts_with("p_");
+            if !known.contains(name) && !later {
                 bail!(
                     "--plot {}: sweep.csv will have no column `{name}`; its columns are: {} \
-                     (and post_<name> for each value the script's post(run) returns)",
+                     (and post_<name> for each value the script's post(run) returns, and the \
+                     roof load's roof_* and p_<sensor>_* columns of a tank with a roof)",
                     self.spec(),
                     known.join(", ")
                 );

@@ -401,3 +401,53 @@ fn the_freeboard_is_the_simulated_tanks_and_tasks_take_slurm_cpus() {
         assert!(report.contains(words), "{words} not in\n{report}");
     }
 }
+
+/// `--converge` runs the motion with the largest design load again at finer lattices (here
+/// two levels, dx = 0.02 and 0.01 m) into `converge/<motion>/`, and the report puts the
+/// design loads' values at each level beside the table, whose columns include the equivalent
+/// static roof force at each roof period.
+#[test]
+fn converge_studies_the_worst_motion_and_reports_it() {
+    let dir = temp("converge");
+    let case = small_case(&dir);
+    let suite = dir.join("suite.csv");
+    std::fs::write(&suite, "name,amp\ngentle,0.5\nstrong,3\n").unwrap();
+    let out = dir.join("out");
+    let o = slosh(&[
+        "assess",
+        case.to_str().unwrap(),
+        "--motions",
+        suite.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--jobs",
+        "2",
+        "--converge",
+        "--converge-levels",
+        "2",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("--converge runs motion strong"),
+        "{}",
+        text(&o)
+    );
+    let study = out.join("converge").join("strong");
+    assert!(study.join("convergence.csv").is_file());
+    let report = std::fs::read_to_string(out.join("assessment.md")).unwrap();
+    assert!(report.contains("## Resolution"), "{report}");
+    assert!(
+        report.contains("Motion `strong` at dx=0.02, dx=0.01"),
+        "{report}"
+    );
+    assert!(report.contains("| max_eta_left |"), "{report}");
+    let header = std::fs::read_to_string(out.join("assessment.csv")).unwrap();
+    let header = header.lines().next().unwrap();
+    for c in [
+        "roof_f_eq_20ms",
+        "roof_f_eq_200ms",
+        "roof_impact_impulse_median",
+    ] {
+        assert!(header.split(',').any(|h| h == c), "{c} in {header}");
+    }
+}

@@ -100,8 +100,16 @@ pub fn read_checkpoint<T: DeserializeOwned>(path: &Path) -> Result<T> {
             "the checkpoint is corrupted (checksum mismatch)",
         ));
     }
-    postcard::from_bytes(payload)
-        .map_err(|e| invalid(path, format!("cannot decode the checkpoint: {e}")))
+    postcard::from_bytes(payload).map_err(|e| {
+        invalid(
+            path,
+            format!(
+                "cannot decode the checkpoint ({e}): it was written by a slosh build whose \
+                     run state differs from this one's; rerun the case from the start, or \
+                     resume with the build that wrote it"
+            ),
+        )
+    })
 }
 
 #[cfg(test)]

@@ -271,12 +271,9 @@ pub fn find_impacts(
             .map(|k| (k, roof_p[k]))
             .fold((start, 0.0), |a, b| if b.1 > a.1 { b } else { a });
         let force_max = roof_force[start..end].iter().copied().fold(0.0, f64::max);
-        // The crest's upward speed at the last row before the roof took load.
-        let v = if start > 0 {
-            crest_vz[start - 1].max(0.0)
-        } else {
-            0.0
-        };
+        // The crest's upward speed at the last row before the roof took load (the episode
+        // starts at that row).
+        let v = crest_vz[start].max(0.0);
         let x_f = contact[k_peak];
         impacts.push(RoofImpact {
             t_start: e.t_start,

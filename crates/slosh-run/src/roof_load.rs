@@ -127,11 +127,15 @@ impl OscillatorBank {
     /// Advances every oscillator to time `t` (s) where the load is `f`. The first sample sets
     /// the load's start (the oscillators are at rest until then).
     pub fn push(&mut self, t: f64, f: f64) {
+        if !f.is_finite() {
+            // A non-finite load (a blown-up step) is skipped: the run reports its failure.
+            return;
+        }
         let Some((t0, f0)) = self.last.replace((t, f)) else {
             return;
         };
         let dt = t - t0;
-        if dt <= 0.0 || !f.is_finite() {
+        if dt <= 0.0 {
             return;
         }
         let zeta = self.zeta;
@@ -840,10 +844,11 @@ impl RoofLoadSummary {
             out.push((format!("{name}_p84"), s.p84));
             out.push((format!("{name}_max"), s.max));
         };
+        let at = |v: &[f64], k: usize| v.get(k).copied().unwrap_or(f64::NAN);
         for (k, &t) in self.periods.iter().enumerate() {
             let tag = period_tag(t);
-            out.push((format!("roof_f_eq_{tag}"), self.roof.design[k]));
-            out.push((format!("roof_dlf_{tag}"), self.roof.dlf[k]));
+            out.push((format!("roof_f_eq_{tag}"), at(&self.roof.design, k)));
+            out.push((format!("roof_dlf_{tag}"), at(&self.roof.dlf, k)));
         }
         spread(&mut out, "roof_impact_impulse".into(), &self.impact_impulse);
         for (k, &t) in self.periods.iter().enumerate() {
@@ -856,7 +861,10 @@ impl RoofLoadSummary {
             out.push((format!("{name}_peak"), s.load.peak));
             out.push((format!("{name}_impulse"), s.load.impulse));
             for (k, &t) in self.periods.iter().enumerate() {
-                out.push((format!("{name}_eq_{}", period_tag(t)), s.load.design[k]));
+                out.push((
+                    format!("{name}_eq_{}", period_tag(t)),
+                    at(&s.load.design, k),
+                ));
             }
             if let Some(sp) = self.impact_sensor_peak.get(i) {
                 spread(&mut out, format!("{name}_impact_peak"), sp);

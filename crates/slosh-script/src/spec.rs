@@ -541,7 +541,8 @@ fn read_arc_parts(r: &mut MapReader) -> Result<Vec<(String, [f64; 2])>, String> 
     };
     let map = d.read_lock::<Map>().ok_or_else(|| {
         format!(
-            "tank: 'parts' of a circle must be a map from part name to [first angle, last              angle] in degrees (got {d})"
+            "tank: 'parts' of a circle must be a map from part name to [first angle, last \
+             angle] in degrees (got {d})"
         )
     })?;
     map.iter()
@@ -555,7 +556,8 @@ fn read_arc_parts(r: &mut MapReader) -> Result<Vec<(String, [f64; 2])>, String> 
                 .map(|p| (name.to_string(), p))
                 .ok_or_else(|| {
                     format!(
-                        "tank: parts.{name} must be [first angle, last angle], two numbers of                          degrees counter-clockwise from +x (e.g. [80.0, 100.0]; got {range})"
+                        "tank: parts.{name} must be [first angle, last angle], two numbers of \
+                         degrees counter-clockwise from +x (e.g. [80.0, 100.0]; got {range})"
                     )
                 })
         })
@@ -1282,6 +1284,17 @@ impl RunSpec {
             return Err(format!(
                 "run: roof_periods lists {} periods; at most {MAX_ROOF_PERIODS}",
                 spec.roof_periods.len()
+            ));
+        }
+        let tags: Vec<String> = spec
+            .roof_periods
+            .iter()
+            .map(|&t| slosh_run::roof_load::period_tag(t))
+            .collect();
+        if let Some(k) = (1..tags.len()).find(|&k| tags[..k].contains(&tags[k])) {
+            return Err(format!(
+                "run: roof_periods lists {} s twice",
+                spec.roof_periods[k]
             ));
         }
         if let Some(t) = spec

@@ -11,7 +11,8 @@
 pub enum Behaviour {
     /// 0 ≤ R < 1: the changes shrink with one sign.
     Monotone,
-    /// −1 < R < 0: the changes shrink and alternate in sign.
+    /// −1 < R < 0: the changes shrink and alternate in sign; the uncertainty is half the
+    /// levels' range (no order, no extrapolation).
     Oscillatory,
     /// |R| ≥ 1: the changes do not shrink; no order or GCI.
     Divergent,
@@ -69,7 +70,8 @@ pub fn uncertainty(values: &[f64], h: &[f64]) -> Uncertainty {
         band: nan,
     };
     let n = values.len();
-    if n < 2 || h.len() != n || values.iter().any(|v| !v.is_finite()) {
+    // Only the finest three levels enter the procedure.
+    if n < 2 || h.len() != n || values[n.saturating_sub(3)..].iter().any(|v| !v.is_finite()) {
         return u;
     }
     let (phi1, phi2) = (values[n - 1], values[n - 2]);
@@ -118,6 +120,19 @@ pub fn uncertainty(values: &[f64], h: &[f64]) -> Uncertainty {
         Behaviour::Oscillatory
     };
     if u.behaviour == Behaviour::Divergent {
+        return u;
+    }
+    if u.behaviour == Behaviour::Oscillatory {
+        // Richardson extrapolation assumes changes of one sign; for oscillatory convergence
+        // the uncertainty is half the range of the levels (Stern, Wilson, Coleman & Paterson
+        // 2001, J. Fluids Eng. 123, 793, §4): no order, no extrapolated value.
+        let (lo, hi) = (phi1.min(phi2).min(phi3), phi1.max(phi2).max(phi3));
+        u.band = 0.5 * (hi - lo);
+        u.gci_fine = if phi1 != 0.0 {
+            u.band / phi1.abs()
+        } else {
+            nan
+        };
         return u;
     }
     // Eq. 3–5: p = |ln|ε₃₂/ε₂₁| + q(p)| / ln r₂₁, q(p) = ln((r₂₁^p − s)/(r₃₂^p − s)),
@@ -197,6 +212,8 @@ mod tests {
         assert!((u.gci_fine - 1.25 * 0.03 / 3.0 / 1.01).abs() < 1e-12);
         let osc = uncertainty(&[1.0, 1.2, 1.1], &h);
         assert_eq!(osc.behaviour, Behaviour::Oscillatory);
+        // Half the range of the levels over the finest value (Stern et al. 2001).
+        assert!((osc.gci_fine - 0.1 / 1.1).abs() < 1e-12 && osc.order.is_nan());
         let div = uncertainty(&[1.0, 1.1, 1.3], &h);
         assert_eq!(div.behaviour, Behaviour::Divergent);
         assert!(div.gci_fine.is_nan());

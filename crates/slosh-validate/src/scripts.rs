@@ -67,6 +67,19 @@ pub(crate) fn run_script(
     name: &str,
     sets: &[String],
 ) -> Result<ScriptRun> {
+    run_script_with(ctx, script, name, sets, false)
+}
+
+/// [`run_script`]; with `checkpointed` and `ctx.checkpoint_every` set, the run checkpoints
+/// into its folder and a run interrupted before continues from its checkpoint (the hours-long
+/// levels of the full suite).
+pub(crate) fn run_script_with(
+    ctx: &Context,
+    script: &str,
+    name: &str,
+    sets: &[String],
+    checkpointed: bool,
+) -> Result<ScriptRun> {
     ctx.say(&format!("{script} {}", sets.join(" ")));
     let mut options = CaseOptions::default();
     for s in sets {
@@ -79,15 +92,23 @@ pub(crate) fn run_script(
     let case = load_case(&path, &options).map_err(|e| anyhow::anyhow!("{e}"))?;
     let out = ctx.out.join("scripts").join(name);
     std::fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
-    let summary = run_case_with_stop(
-        case,
-        &RunOptions {
-            out_dir: out.clone(),
-            plots: false,
-            ..RunOptions::default()
-        },
-        &mut (),
-    )?;
+    let mut run_options = RunOptions {
+        out_dir: out.clone(),
+        plots: false,
+        ..RunOptions::default()
+    };
+    if let (true, Some(every)) = (checkpointed, ctx.checkpoint_every) {
+        let unfinished = out.join("checkpoint").join("state.bin").is_file()
+            && !std::fs::read_to_string(out.join("summary.ron"))
+                .is_ok_and(|t| t.contains("status: \"completed\""));
+        run_options.resume = unfinished;
+        run_options.checkpoints = Some((
+            slosh_case::checkpoint::RunRecord::new(&path, sets, &[], every)?,
+            every,
+        ));
+    }
+    let summary = run_case_with_stop(case, &run_options, &mut ())?;
+
     anyhow::ensure!(
         summary.status == "completed",
         "{script} ({}) ended {}: {}",

@@ -32,6 +32,18 @@ pub struct AssessArgs {
     /// Report failures only: no progress lines.
     #[arg(long)]
     pub quiet: bool,
+    /// After the suite, run the motion with the largest design load at successive
+    /// resolutions (`slosh converge`, into DIR/converge/<motion>/) and put each design load's
+    /// grid convergence index beside the report's loads.
+    #[arg(long, conflicts_with_all = ["slurm", "task"])]
+    pub converge: bool,
+    /// The resolution parameter of --converge (its value for the motion is the coarsest
+    /// level).
+    #[arg(long, value_name = "NAME", default_value = "dx", requires = "converge")]
+    pub converge_param: String,
+    /// Levels of --converge.
+    #[arg(long, value_name = "N", default_value_t = 3, requires = "converge")]
+    pub converge_levels: usize,
     /// Slurm: write DIR/assess.sbatch (one array task per motion) and the manifest it reads.
     #[command(flatten)]
     pub slurm: SlurmArgs,
@@ -68,9 +80,14 @@ pub fn cli_assess(args: AssessArgs, overrides: Vec<(String, ParamValue)>) -> Res
     }
     if args.collect {
         let out = needs_out(&args.out, "--collect")?;
-        return finish(collect(out)?, args.quiet);
+        let collected = collect(out)?;
+        if args.converge {
+            let manifest = super::Manifest::read(out)?;
+            return converge_worst(&exe, &manifest, out, &args).and_then(|c| finish(c, args.quiet));
+        }
+        return finish(collected, args.quiet);
     }
-    let (Some(case), Some(motions)) = (args.case, args.motions) else {
+    let (Some(case), Some(motions)) = (args.case.clone(), args.motions.clone()) else {
         bail!(
             "slosh assess needs a case script and a suite: slosh assess CASE.rhai --motions \
              SUITE.csv [--out DIR]; or --task I --out DIR, or --collect --out DIR"
@@ -87,9 +104,9 @@ pub fn cli_assess(args: AssessArgs, overrides: Vec<(String, ParamValue)>) -> Res
     let (manifest, out_dir) = prepare(&AssessRequest {
         case,
         motions,
-        out: args.out,
+        out: args.out.clone(),
         overrides,
-        allow_read: args.allow_read,
+        allow_read: args.allow_read.clone(),
     })?;
     if args.slurm.slurm {
         let collect = crate::slurm::command_line(&[
@@ -110,7 +127,68 @@ pub fn cli_assess(args: AssessArgs, overrides: Vec<(String, ParamValue)>) -> Res
         return Ok(());
     }
     let collected = run_local(&exe, &manifest, &out_dir, args.jobs, args.quiet)?;
+    if args.converge {
+        return converge_worst(&exe, &manifest, &out_dir, &args)
+            .and_then(|c| finish(c, args.quiet));
+    }
     finish(collected, args.quiet)
+}
+
+/// `--converge`: the worst motion through `slosh converge`, then the report again with its
+/// resolution section.
+fn converge_worst(
+    exe: &Path,
+    manifest: &super::Manifest,
+    out_dir: &Path,
+    args: &AssessArgs,
+) -> Result<super::report::Collected> {
+    let declared = manifest.declared()?;
+    let plans = manifest.plans(out_dir, &declared);
+    let Some((name, why)) = super::report::worst_motion(manifest, &plans) else {
+        bail!("--converge: no motion has a finished run to study");
+    };
+    let motion = manifest
+        .motions
+        .iter()
+        .find(|m| m.name == name)
+        .context("the worst motion is in the manifest")?;
+    // Strings print quoted, so that a comma in a record's path stays one value.
+    let sets: Vec<String> = manifest
+        .overrides
+        .iter()
+        .chain(&motion.values)
+        .map(|(n, v)| format!("{n}={v}"))
+        .collect();
+    if !args.quiet {
+        eprintln!(
+            "assess: --converge runs motion {name} ({why}) at {} levels of {}",
+            args.converge_levels, args.converge_param
+        );
+    }
+    let request = crate::converge::ConvergeRequest {
+        param: args.converge_param.clone(),
+        levels: args.converge_levels,
+        ratio: 2.0,
+        refine: None,
+        sets,
+        out: Some(super::report::converge_dir(out_dir, &name)),
+        jobs: args.jobs,
+        quiet: args.quiet,
+        allow_read: manifest.allow_read.clone(),
+    };
+    let outcome = crate::converge::cli_converge(
+        exe,
+        &manifest.case,
+        &request,
+        &crate::sweep::SweepMode::Run,
+    )?;
+    if outcome.csv.is_none() {
+        bail!(
+            "--converge: not every level of motion {name} completed (see {})",
+            super::report::converge_dir(out_dir, &name).display()
+        );
+    }
+    collect(out_dir)
 }
 
 fn needs_out<'a>(out: &'a Option<PathBuf>, what: &str) -> Result<&'a Path> {

@@ -73,6 +73,8 @@ struct RunPeaks {
     roof_contact: bool,
     #[serde(default)]
     input_spectrum: Option<SpectrumSummary>,
+    #[serde(default)]
+    roof_load: Option<slosh_run::RoofLoadSummary>,
 }
 
 impl RunPeaks {
@@ -165,6 +167,160 @@ struct MotionRun<'a> {
     values: &'a [(String, ParamValue)],
     dir: &'a Path,
     state: RunState,
+}
+
+/// The motion whose design load is the largest among the finished runs, with why: the
+/// largest equivalent static roof force at the middle roof period when a run reached the
+/// roof, else the largest wave at the walls. `None` before any run has finished.
+pub(crate) fn worst_motion(manifest: &Manifest, plans: &[Planned]) -> Option<(String, String)> {
+    let finished: Vec<(&str, Box<RunPeaks>)> = manifest
+        .motions
+        .iter()
+        .zip(plans)
+        .filter_map(|(m, p)| match run_state(p) {
+            RunState::Completed(r) => Some((m.name.as_str(), r)),
+            _ => None,
+        })
+        .collect();
+    let roof = |r: &RunPeaks| {
+        r.roof_load
+            .as_ref()
+            .filter(|_| r.roof_contact)
+            .and_then(|l| {
+                let k = l.periods.len() / 2;
+                Some((*l.roof.design.get(k)?, *l.periods.get(k)?))
+            })
+    };
+    if let Some((name, (f, t))) = finished
+        .iter()
+        .filter_map(|(n, r)| roof(r).map(|x| (*n, x)))
+        .max_by(|a, b| a.1 .0.total_cmp(&b.1 .0))
+    {
+        return Some((
+            name.to_string(),
+            format!(
+                "the largest equivalent static roof force, {} at T_r = {} s",
+                sig3(f),
+                sig3(t)
+            ),
+        ));
+    }
+    finished
+        .iter()
+        .max_by(|a, b| a.1.max_eta().total_cmp(&b.1.max_eta()))
+        .map(|(n, r)| {
+            (
+                n.to_string(),
+                format!(
+                    "the largest wave at the walls, {} m (no run reached the roof)",
+                    sig3(r.max_eta())
+                ),
+            )
+        })
+}
+
+/// The folder of the convergence study of motion `name` in an assessment.
+pub(crate) fn converge_dir(out_dir: &Path, name: &str) -> std::path::PathBuf {
+    out_dir.join("converge").join(name)
+}
+
+/// The report's section on resolution: for each finished `slosh assess --converge` study in
+/// `DIR/converge/<motion>/`, the design loads' values at the levels and their GCI.
+fn resolution_section(out_dir: &Path, manifest: &Manifest) -> Option<String> {
+    let mut s = String::new();
+    for m in &manifest.motions {
+        let csv_path = converge_dir(out_dir, &m.name).join("convergence.csv");
+        let Ok(mut reader) = csv::Reader::from_path(&csv_path) else {
+            continue;
+        };
+        let Ok(header) = reader
+            .headers()
+            .map(|h| h.iter().map(String::from).collect::<Vec<_>>())
+        else {
+            continue;
+        };
+        let levels: Vec<&String> = header
+            .iter()
+            .skip(1)
+            .take_while(|h| h.contains('='))
+            .collect();
+        let col = |name: &str| header.iter().position(|h| h == name);
+        let (Some(behaviour), Some(gci), Some(change)) =
+            (col("behaviour"), col("gci_fine"), col("relative_change"))
+        else {
+            continue;
+        };
+        let _ = writeln!(
+            s,
+            "Motion `{}` at {} (`{}`):\n",
+            m.name,
+            levels
+                .iter()
+                .map(|l| l.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+            csv_path.display()
+        );
+        let _ = writeln!(
+            s,
+            "| quantity | {} | behaviour | GCI fine | change fine |",
+            levels
+                .iter()
+                .map(|l| l.as_str())
+                .collect::<Vec<_>>()
+                .join(" | ")
+        );
+        let _ = writeln!(s, "|{}", "---|".repeat(levels.len() + 4));
+        for record in reader.records().flatten() {
+            let name = record.get(0).unwrap_or_default();
+            let design = name.starts_with("roof_f_eq_")
+                || name == "roof_impulse"
+                || name.starts_with("roof_impact_impulse")
+                || name.starts_with("max_eta_")
+                || name == "max_abs_base_shear_x_lp";
+            if !design {
+                continue;
+            }
+            let values: Vec<String> = (1..=levels.len())
+                .map(|k| {
+                    sig3(
+                        record
+                            .get(k)
+                            .and_then(|v| v.parse().ok())
+                            .unwrap_or(f64::NAN),
+                    )
+                })
+                .collect();
+            let percent = |k: usize| {
+                let x: f64 = record
+                    .get(k)
+                    .and_then(|v| v.parse().ok())
+                    .unwrap_or(f64::NAN);
+                if x.is_finite() {
+                    format!("{:.1} %", 100.0 * x)
+                } else {
+                    "–".into()
+                }
+            };
+            let _ = writeln!(
+                s,
+                "| {name} | {} | {} | {} | {} |",
+                values.join(" | "),
+                record.get(behaviour).unwrap_or_default(),
+                percent(gci),
+                percent(change)
+            );
+        }
+        let _ = writeln!(s);
+    }
+    (!s.is_empty()).then(|| {
+        format!(
+            "\n## Resolution\n\nThe motion with the largest design load run again at successive \
+             resolutions (`slosh assess --converge`): the grid convergence index of the finest \
+             level (Celik et al. 2008; `docs/roof-loads.md`). A *divergent* load is not \
+             converged at these levels.\n\n{s}"
+        )
+    })
 }
 
 /// Reads the state of a planned run from its folder.
@@ -304,6 +460,16 @@ fn numeric_columns(runs: &[&RunPeaks], dim: usize) -> Vec<Column> {
             "SPH roof impulse",
             RunPeaks::max_roof_impulse,
         ),
+        column(
+            "roof_impact_impulse_median",
+            impulse,
+            "SPH roof impulse, median of the impacts",
+            |r| {
+                r.roof_load
+                    .as_ref()
+                    .map_or(f64::NAN, |l| l.impact_impulse.median)
+            },
+        ),
         column("max_abs_base_shear_x", force, "SPH base shear", |r| {
             r.max_abs_base_shear_x
         }),
@@ -314,6 +480,26 @@ fn numeric_columns(runs: &[&RunPeaks], dim: usize) -> Vec<Column> {
             RunPeaks::max_overturning_moment,
         ),
     ];
+    // The equivalent static roof force at each roof period of the runs (the design load of a
+    // roof of that period, `docs/roof-loads.md`).
+    let periods: Vec<f64> = runs
+        .iter()
+        .find_map(|r| r.roof_load.as_ref().map(|l| l.periods.clone()))
+        .unwrap_or_default();
+    for (k, &t) in periods.iter().enumerate() {
+        columns.push(column(
+            format!("roof_f_eq_{}", slosh_run::roof_load::period_tag(t)),
+            force,
+            format!("SPH roof F_eq (T_r = {} s)", sig3(t)),
+            move |r| {
+                r.roof_load
+                    .as_ref()
+                    .filter(|l| l.periods.get(k).is_some_and(|p| (p - t).abs() < 1e-12))
+                    .and_then(|l| l.roof.design.get(k).copied())
+                    .unwrap_or(f64::NAN)
+            },
+        ));
+    }
     let mut codes: Vec<String> = Vec::new();
     for r in runs {
         for w in r.input_spectrum.iter().flat_map(|s| &s.code_wave_heights) {
@@ -433,7 +619,7 @@ pub(crate) fn write_report(
 
     let verdicts = verdict_lines(&completed, &columns, motions.len());
     let report = out_dir.join("assessment.md");
-    let text = markdown(
+    let mut text = markdown(
         manifest,
         &motions,
         &completed,
@@ -443,6 +629,9 @@ pub(crate) fn write_report(
         &plot_errors,
         (&missing, &failed),
     );
+    if let Some(section) = resolution_section(out_dir, manifest) {
+        text.push_str(&section);
+    }
     std::fs::write(&report, text).with_context(|| format!("cannot write {}", report.display()))?;
     Ok(Collected {
         report,
