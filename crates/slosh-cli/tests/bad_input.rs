@@ -704,3 +704,31 @@ fn a_steep_cone_roof_writes_its_pressure_map() {
         "one row per roof point column"
     );
 }
+
+/// A size the script computes as NaN is refused where the tank reads it (not reported as a
+/// memory need of "NaN GB"); an acceleration far beyond any ground motion is refused as a
+/// units mistake (not reported as a sound speed of 10¹⁵¹ m/s).
+#[test]
+fn computed_nan_sizes_and_absurd_accelerations_say_what_is_wrong() {
+    let dir = temp("nan_and_absurd");
+    let case = small_case(&dir, "0.0", "");
+    let text = std::fs::read_to_string(&case)
+        .unwrap()
+        .replace("width: width,", "width: sqrt(width - 1.0),");
+    std::fs::write(&case, text).unwrap();
+    let (ok, err) = run(&["run", case.to_str().unwrap(), "--quiet"]);
+    assert!(!ok);
+    assert!(
+        err.contains("'width' must be a finite number") && !err.contains("GB"),
+        "{err}"
+    );
+
+    let dir = temp("absurd_accel");
+    let case = small_case(&dir, "1e300", "");
+    let (ok, err) = run(&["run", case.to_str().unwrap(), "--quiet"]);
+    assert!(!ok);
+    assert!(
+        err.contains("beyond any ground motion") && !err.contains("EOS"),
+        "{err}"
+    );
+}

@@ -24,6 +24,11 @@ pub struct CaseOptions {
     pub script_memory_bytes: Option<u64>,
 }
 
+/// Largest |ground acceleration| a script may return (m/s²): 1000 g, two orders of magnitude
+/// above the strongest recorded earthquake motions (≈ 4 g) and shake tables; anything larger
+/// is a units or scaling mistake.
+pub const MAX_GROUND_ACCEL: f64 = 9810.0;
+
 /// The script functions called during and after a run.
 pub struct Excitation {
     engine: Engine,
@@ -118,6 +123,16 @@ impl Excitation {
                 format!(
                     "ground_accel({t}) returned a non-finite value {out:?}; the excitation \
                      function must return finite accelerations (check divisions and records)"
+                ),
+            ));
+        }
+        if let Some(a) = out.iter().find(|a| a.abs() > MAX_GROUND_ACCEL) {
+            return Err(ScriptError::case(
+                &self.file,
+                format!(
+                    "ground_accel({t}) returned {a:e} m/s², beyond any ground motion or shake \
+                     table (at most {MAX_GROUND_ACCEL:e} m/s², 1000 g); check the units (m/s², \
+                     not mm/s² or g·1000) and the scaling"
                 ),
             ));
         }

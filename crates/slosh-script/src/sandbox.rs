@@ -71,7 +71,17 @@ impl ReadSandbox {
         };
         for candidate in &candidates {
             if let Ok(real) = candidate.canonicalize() {
-                return self.inside(real, requested);
+                let real = self.inside(real, requested)?;
+                // A named pipe, a device or a folder would block the read or make no sense
+                // as a record or a mesh.
+                if !real.is_file() {
+                    return Err(format!(
+                        "\"{requested}\" ({}) is not a regular file: a record or a mesh must be \
+                         a file",
+                        real.display()
+                    ));
+                }
+                return Ok(real);
             }
         }
         match candidates.first() {

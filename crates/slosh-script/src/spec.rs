@@ -36,19 +36,23 @@ impl<'a> MapReader<'a> {
     }
 
     pub(crate) fn f64_or(&mut self, key: &str, default: f64) -> Result<f64, String> {
-        match self.get(key) {
-            None => Ok(default),
-            Some(d) => dynamic_to_f64(d)
-                .ok_or_else(|| format!("{}: '{key}' must be a number (got {d})", self.what)),
-        }
+        Ok(self.opt_f64(key)?.unwrap_or(default))
     }
 
+    /// A finite number, or `None` when the key is absent (a NaN or an infinity computed by
+    /// the script is an error here, before it becomes a size or a time).
     pub(crate) fn opt_f64(&mut self, key: &str) -> Result<Option<f64>, String> {
         match self.get(key) {
             None => Ok(None),
-            Some(d) => dynamic_to_f64(d)
-                .map(Some)
-                .ok_or_else(|| format!("{}: '{key}' must be a number (got {d})", self.what)),
+            Some(d) => match dynamic_to_f64(d) {
+                Some(x) if x.is_finite() => Ok(Some(x)),
+                Some(x) => Err(format!(
+                    "{}: '{key}' must be a finite number (got {x}; check the script's \
+                     arithmetic)",
+                    self.what
+                )),
+                None => Err(format!("{}: '{key}' must be a number (got {d})", self.what)),
+            },
         }
     }
 

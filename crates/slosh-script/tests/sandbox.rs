@@ -245,3 +245,24 @@ fn a_mesh_tank_reads_its_file_through_the_sandbox() {
     assert!(e.contains("case.rhai:2") && e.contains("open.obj"), "{e}");
     assert!(e.contains("not watertight"), "{e}");
 }
+
+/// A named pipe (which would block the read forever) or a folder given as a record is
+/// refused with its name before anything is read.
+#[test]
+fn a_fifo_or_a_folder_is_not_a_record() {
+    let dir = temp_dir("fifo");
+    let fifo = dir.join("fifo.at2");
+    let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    // SAFETY: mkfifo with a valid NUL-terminated path.
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+    let case = case_reading(&dir, "fifo.at2");
+    let e = load_error(&case, &CaseOptions::default());
+    assert!(
+        e.contains("fifo.at2") && e.contains("not a regular file"),
+        "{e}"
+    );
+    std::fs::create_dir_all(dir.join("folder.at2")).unwrap();
+    let case = case_reading(&dir, "folder.at2");
+    let e = load_error(&case, &CaseOptions::default());
+    assert!(e.contains("not a regular file"), "{e}");
+}
