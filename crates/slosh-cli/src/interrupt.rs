@@ -20,6 +20,9 @@ pub fn install() -> std::io::Result<()> {
     for signal in [libc::SIGINT, libc::SIGTERM] {
         signal_hook::flag::register_usize(signal, Arc::clone(&received), signal as usize)?;
         signal_hook::flag::register(signal, Arc::clone(&seen))?;
+        // A script evaluation (the top level, `post`) and the sampling of the excitation
+        // before a run stop on it too.
+        signal_hook::flag::register(signal, slosh_script::stop_flag())?;
     }
     let _ = RECEIVED.set(received);
     Ok(())

@@ -101,3 +101,39 @@ fn sigint_to_a_sweep_reaches_its_case_and_no_case_is_left_running() {
     let table = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
     assert!(table.contains("interrupted"), "{table}");
 }
+
+/// SIGTERM while the script's top level is still running (a long loop before `tank(...)`)
+/// stops the evaluation within a fraction of a second: the run ends with the signal named,
+/// long before the loop's own operation limit would have ended it.
+#[test]
+fn sigterm_stops_a_long_script_evaluation() {
+    let dir = temp("script-evaluation");
+    let script = dir.join("loop.rhai");
+    std::fs::write(
+        &script,
+        "let a = [];\nfor i in 0..5000000 { a.push(i); a.pop(); }\n\
+         tank(#{ shape: \"rect\", width: 0.4, height: 0.4, depth: 0.2 });\n\
+         run(#{ settle: 0.0, duration: 0.01 });\n",
+    )
+    .unwrap();
+    let child = Command::new(env!("CARGO_BIN_EXE_slosh"))
+        .arg("run")
+        .arg(&script)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(700));
+    let sent = Instant::now();
+    signal(&child, libc::SIGTERM);
+    let out = child.wait_with_output().unwrap();
+    let waited = sent.elapsed();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(err.contains("stopped by a signal"), "{err}");
+    assert!(
+        waited < Duration::from_secs(3),
+        "stopped {waited:?} after the signal: {err}"
+    );
+}

@@ -285,6 +285,13 @@ impl Case {
         let mut previous = self.excitation.ground_accel(0.0)?;
         let mut a_max = previous.iter().fold(0.0f64, |m, a| m.max(a.abs()));
         for i in 1..=n {
+            if i % 1024 == 0 && crate::memory::stop_requested() {
+                return Err(ScriptError::case(
+                    &self.script,
+                    "stopped by a signal (SIGINT or SIGTERM) while sampling ground_accel for \
+                     the sound speed, before the run",
+                ));
+            }
             let a = self.excitation.ground_accel(i as f64 * dt)?;
             for k in 0..3 {
                 velocity[k] += 0.5 * dt * (a[k] + previous[k]);

@@ -31,7 +31,7 @@ pub use case::{
 };
 pub use engine::{resolve_script_path, PlotRequest};
 pub use error::ScriptError;
-pub use memory::SCRIPT_MEMORY_BUDGET_BYTES;
+pub use memory::{stop_flag, stop_requested, SCRIPT_MEMORY_BUDGET_BYTES};
 pub use motion_api::MotionInfo;
 pub use params::{parse_set_value, parse_sets, ParamDecl, ParamValue, SetArgumentError};
 pub use sandbox::{ReadSandbox, PROJECT_MARKER};

@@ -9,8 +9,26 @@
 //! exist (not Linux) only Rhai's per-value limits apply.
 
 use rhai::{Dynamic, Engine};
-use std::sync::{Arc, Mutex};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, OnceLock};
 use std::time::{Duration, Instant};
+
+/// Set by the front end's signal handler (SIGINT, SIGTERM): a script evaluation that has run
+/// longer than [`STOPPABLE_AFTER`] stops at its next operation, and the sampling of the
+/// excitation before a run stops. A run's per-step `ground_accel` calls are far shorter, so a
+/// signal during the run still ends it at a step with its checkpoint.
+pub fn stop_flag() -> Arc<AtomicBool> {
+    static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
+    Arc::clone(FLAG.get_or_init(|| Arc::new(AtomicBool::new(false))))
+}
+
+/// True once [`stop_flag`] is set.
+pub fn stop_requested() -> bool {
+    stop_flag().load(Ordering::Relaxed)
+}
+
+/// An evaluation this old (its top level, `post`) is stopped by a signal.
+const STOPPABLE_AFTER: Duration = Duration::from_millis(200);
 
 /// Default cap on the memory one evaluation of a script (its top level, one `ground_accel`
 /// call or `post`) may add to the process: 2 GiB.
@@ -27,28 +45,36 @@ struct Watch {
     baseline_bytes: Option<u64>,
     /// Time of the previous reading (or of the start of the evaluation).
     last_check: Instant,
+    /// Start of the evaluation.
+    started: Instant,
 }
 
-/// Stops any evaluation by `engine` whose resident memory grows by more than `budget_bytes`.
+/// Stops any evaluation by `engine` whose resident memory grows by more than `budget_bytes`,
+/// or that has run longer than [`STOPPABLE_AFTER`] when a signal asked the process to stop.
 pub(crate) fn cap_script_memory(engine: &mut Engine, budget_bytes: u64) {
-    if resident_bytes().is_none() {
-        return;
-    }
     let watch = Arc::new(Mutex::new(Watch {
         last_operations: 0,
         baseline_bytes: None,
         last_check: Instant::now(),
+        started: Instant::now(),
     }));
+    let stop = stop_flag();
     engine.on_progress(move |operations| {
         let mut w = watch.lock().ok()?;
         let now = Instant::now();
         if operations <= w.last_operations {
             w.baseline_bytes = None;
             w.last_check = now;
+            w.started = now;
         }
         w.last_operations = operations;
         if now.duration_since(w.last_check) < CHECK_INTERVAL {
             return None;
+        }
+        if stop.load(Ordering::Relaxed) && now.duration_since(w.started) >= STOPPABLE_AFTER {
+            return Some(Dynamic::from(
+                "the script's evaluation was stopped by a signal (SIGINT or SIGTERM)".to_string(),
+            ));
         }
         w.last_check = now;
         let resident = resident_bytes()?;

@@ -632,7 +632,10 @@ pub(crate) fn write_report(
     if let Some(section) = resolution_section(out_dir, manifest) {
         text.push_str(&section);
     }
-    std::fs::write(&report, text).with_context(|| format!("cannot write {}", report.display()))?;
+    // Created afresh, never through a link planted at its name.
+    slosh_io::error::create_fresh(&report)
+        .and_then(|mut f| std::io::Write::write_all(&mut f, text.as_bytes()))
+        .with_context(|| format!("cannot write {}", report.display()))?;
     Ok(Collected {
         report,
         csv,
