@@ -147,7 +147,11 @@ fn tank_height(tank: &TankSpec) -> f64 {
 /// [`slosh_core::SphParams::wall_layers`] of the run's parameters).
 pub fn build_2d(tank: &TankSpec, dx: f64, layers: u8) -> Result<ParticleSetup<2>> {
     if let Some(section) = tank.section_tank().map_err(anyhow::Error::msg)? {
-        return Ok(section.with_layers(layers).build(dx)?);
+        let setup = section.with_layers(layers).build(dx)?;
+        if let TankSpec::Section { solids, .. } | TankSpec::Rect { solids, .. } = tank {
+            check_solids_inside(&setup, solids.iter().map(|s| s.name.as_str()))?;
+        }
+        return Ok(setup);
     }
     match tank {
         TankSpec::Rect {
@@ -173,6 +177,38 @@ pub fn build_2d(tank: &TankSpec, dx: f64, layers: u8) -> Result<ParticleSetup<2>
         }
         _ => bail!("internal: a 3D tank was handed to the 2D builder"),
     }
+}
+
+/// Refuses a solid part with no wetted side: every solid of that name lies outside the tank's
+/// interior (or inside another solid), so it would be silently left out of the run. The
+/// builders count a solid's side as wetted only where its liquid side lies inside the tank.
+fn check_solids_inside<'a, const D: usize>(
+    setup: &ParticleSetup<D>,
+    solid_names: impl Iterator<Item = &'a str>,
+) -> Result<()> {
+    for name in solid_names {
+        let area: f64 = setup
+            .part_names
+            .iter()
+            .position(|n| n == name)
+            .map_or(0.0, |p| {
+                setup
+                    .wall_part
+                    .iter()
+                    .zip(&setup.wall_area)
+                    .filter(|(&k, _)| usize::from(k) == p)
+                    .map(|(_, a)| a)
+                    .sum()
+            });
+        if area <= 0.0 {
+            bail!(
+                "solid \"{name}\" lies outside the tank: none of its faces is inside the \
+                 tank's interior (or it is inside another solid); check its position against \
+                 the tank's size"
+            );
+        }
+    }
+    Ok(())
 }
 
 /// Builds the 3D particles of a 3D tank with `layers` layers of wall particles (as
@@ -216,7 +252,9 @@ pub fn build_3d(
                 .with_layers(layers)
                 .with_lattice(lattice);
             tank.solids = solids.clone();
-            Ok(tank.build(dx)?)
+            let setup = tank.build(dx)?;
+            check_solids_inside(&setup, solids.iter().map(|s| s.name.as_str()))?;
+            Ok(setup)
         }
         TankSpec::Box {
             length,
@@ -234,7 +272,9 @@ pub fn build_3d(
                 .with_initial_shape(initial_surface(tilt_shape))
                 .with_layers(layers);
             tank.solids = solids.clone();
-            Ok(tank.build(dx)?)
+            let setup = tank.build(dx)?;
+            check_solids_inside(&setup, solids.iter().map(|s| s.name.as_str()))?;
+            Ok(setup)
         }
         TankSpec::Mesh {
             mesh,
@@ -250,7 +290,9 @@ pub fn build_3d(
                 .with_initial_shape(initial_surface(tilt_shape))
                 .with_layers(layers);
             tank.solids = solids.clone();
-            Ok(tank.build(dx)?)
+            let setup = tank.build(dx)?;
+            check_solids_inside(&setup, solids.iter().map(|s| s.name.as_str()))?;
+            Ok(setup)
         }
         TankSpec::Sphere {
             radius,

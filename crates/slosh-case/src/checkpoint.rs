@@ -160,6 +160,8 @@ pub struct CheckpointWriter {
     pub resumes: Vec<ResumeRecord>,
     /// Checkpoints written by this process.
     pub written: u64,
+    /// The simulated time (s) of the last checkpoint this process wrote.
+    pub last_time: Option<f64>,
 }
 
 impl CheckpointWriter {
@@ -179,6 +181,7 @@ impl CheckpointWriter {
             last: Instant::now(),
             resumes: Vec::new(),
             written: 0,
+            last_time: None,
         })
     }
 
@@ -200,6 +203,8 @@ impl CheckpointWriter {
             state: &'a RunCheckpoint<D>,
             inputs_crc32: u32,
         }
+        // A failed write (a full disk) is tried again after `every`, not at every step.
+        self.last = Instant::now();
         slosh_io::write_checkpoint(
             &self.dir.join("state.bin"),
             &Borrowed {
@@ -209,8 +214,8 @@ impl CheckpointWriter {
                 inputs_crc32: self.inputs_crc32,
             },
         )?;
-        self.last = Instant::now();
         self.written += 1;
+        self.last_time = Some(state.sim.time);
         Ok(())
     }
 }

@@ -48,28 +48,46 @@ pub fn run_data(summary: &Summary, names: &[(String, String)], history: &[Vec<f6
     }
 }
 
-/// Writes the tables and plots a `post` asked for into `out/post/`.
+/// Writes the tables and plots a `post` asked for into `out/post/`. One that cannot be written
+/// does not stop the others: every failure is named in the error.
 pub fn write_post_outputs(out: &Path, result: &PostResult) -> Result<()> {
     if result.tables.is_empty() && result.plots.is_empty() {
         return Ok(());
     }
     let dir = out.join("post");
     std::fs::create_dir_all(&dir)?;
+    let mut failures = Vec::new();
     for (name, header, rows) in &result.tables {
-        crate::run_folder::record_output(out, &format!("post/{name}"))?;
-        let mut w = TableWriter::create_whole(dir.join(format!("{name}.csv")), header)?;
-        for r in rows {
-            w.write_row(r)?;
+        let written = (|| -> Result<()> {
+            crate::run_folder::record_output(out, &format!("post/{name}"))?;
+            let mut w = TableWriter::create_whole(dir.join(format!("{name}.csv")), header)?;
+            for r in rows {
+                w.write_row(r)?;
+            }
+            w.finish()?;
+            Ok(())
+        })();
+        if let Err(e) = written {
+            failures.push(format!("table '{name}': {e:#}"));
         }
-        w.finish()?;
     }
     for p in &result.plots {
-        crate::run_folder::record_output(out, &format!("post/{}", p.name))?;
-        slosh_io::line_plot(
-            dir.join(&p.name),
-            &PlotSpec::new(&p.title, &p.x_label, &p.y_label),
-            &[Series::line(p.name.clone(), &p.xs, &p.ys)],
-        )?;
+        let written = (|| -> Result<()> {
+            crate::run_folder::record_output(out, &format!("post/{}", p.name))?;
+            slosh_io::line_plot(
+                dir.join(&p.name),
+                &PlotSpec::new(&p.title, &p.x_label, &p.y_label),
+                &[Series::line(p.name.clone(), &p.xs, &p.ys)],
+            )?;
+            Ok(())
+        })();
+        if let Err(e) = written {
+            failures.push(format!("plot '{}': {e:#}", p.name));
+        }
     }
-    Ok(())
+    if failures.is_empty() {
+        Ok(())
+    } else {
+        anyhow::bail!("{}", failures.join("; "))
+    }
 }

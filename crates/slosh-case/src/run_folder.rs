@@ -116,24 +116,46 @@ impl RunFolder {
     /// After a run that stopped with `error` before writing its own summary (a bad tank, a
     /// refused setting): `summary.ron` says `status: "failed"` with the error instead of
     /// "running".
-    pub fn mark_failed_if_running(&self, error: &str) {
-        let summary = std::fs::read_to_string(self.dir.join("summary.ron")).unwrap_or_default();
-        if summary.contains("status: \"running\"") {
-            let _ = self.write_short_summary("failed", Some(error));
+    ///
+    /// On a full disk, where the new summary cannot be written beside the old one and renamed
+    /// over it, the old file (slosh's own, never a link) is overwritten in place: cutting it
+    /// first frees the space the short summary needs. `Err` says that even this failed, so
+    /// that the caller can tell the user that `summary.ron` still says "running".
+    pub fn mark_failed_if_running(&self, error: &str) -> Result<()> {
+        let path = self.dir.join("summary.ron");
+        let summary = std::fs::read_to_string(&path).unwrap_or_default();
+        if !summary.contains("status: \"running\"") {
+            return Ok(());
+        }
+        let Err(atomic) = self.write_short_summary("failed", Some(error)) else {
+            return Ok(());
+        };
+        slosh_io::overwrite_ron_in_place(&path, &self.short_summary("failed", Some(error))).map_err(
+            |e| {
+                anyhow::anyhow!(
+                    "{} could not be updated ({atomic:#}; in place: {e}): it still says \
+                     \"running\"",
+                    path.display()
+                )
+            },
+        )
+    }
+
+    fn short_summary<'a>(&'a self, status: &'a str, error: Option<&'a str>) -> ShortSummary<'a> {
+        ShortSummary {
+            version: env!("CARGO_PKG_VERSION"),
+            case: &self.case,
+            script: &self.script,
+            status,
+            pid: std::process::id(),
+            error,
         }
     }
 
     fn write_short_summary(&self, status: &str, error: Option<&str>) -> Result<()> {
         slosh_io::write_ron(
             self.dir.join("summary.ron"),
-            &ShortSummary {
-                version: env!("CARGO_PKG_VERSION"),
-                case: &self.case,
-                script: &self.script,
-                status,
-                pid: std::process::id(),
-                error,
-            },
+            &self.short_summary(status, error),
         )?;
         Ok(())
     }

@@ -62,10 +62,13 @@ pub fn run_case_with_stop(
         crate::run_folder::RunFolder::claim(&opts.out_dir, &case.name, &case.script)?
     };
     let result = build_and_run(&mut case, opts, stop);
-    if let Err(e) = &result {
-        folder.mark_failed_if_running(&format!("{e:#}"));
+    match result {
+        Err(e) => match folder.mark_failed_if_running(&format!("{e:#}")) {
+            Ok(()) => Err(e),
+            Err(summary_error) => Err(e.context(format!("{summary_error:#}"))),
+        },
+        ok => ok,
     }
-    result
 }
 
 /// Fits, builds and runs a claimed case.
@@ -301,6 +304,18 @@ fn run_built<const D: usize>(
         .cloned()
         .chain(numerics_warnings)
         .collect();
+    #[cfg(feature = "gpu")]
+    if let Some(device) = sim
+        .device_description()
+        .filter(|d| d.contains(slosh_gpu::SOFTWARE_DEVICE))
+    {
+        let w = format!(
+            "the GPU backend runs on {device}: Vulkan sees no GPU on this machine; the results \
+             are those of the GPU step, but it runs slower than --backend cpu"
+        );
+        eprintln!("warning: {w}");
+        warnings.push(w);
+    }
     if opts.verbose {
         for note in &fit.notes {
             eprintln!("{}: lattice: {note}", case.name);
@@ -433,6 +448,7 @@ fn run_built<const D: usize>(
         time_reached: std::rc::Rc::new(std::cell::Cell::new(f64::NEG_INFINITY)),
     };
     let mut stop = RunStop::from_env(stop, std::rc::Rc::clone(&files.time_reached))?;
+    let resumed_from = resume_state.as_ref().map(|s| s.sim.time);
     let mut result: RunResult<D> = slosh_run::run_case_from(
         &mut sim,
         &plan,
@@ -441,7 +457,27 @@ fn run_built<const D: usize>(
         &mut stop,
         resume_state,
     )
-    .map_err(|e| anyhow::anyhow!(e))?;
+    .map_err(|e| {
+        // An output that could not be written (a full disk): what is left and how to go on.
+        let kept = match files
+            .checkpoints
+            .as_ref()
+            .and_then(|c| c.last_time)
+            .or(resumed_from)
+        {
+            Some(t) if opts.checkpoints.is_some() => format!(
+                "the last checkpoint (t = {t:.4} s) is kept: make room and continue with \
+                 `slosh resume {}`",
+                out.display()
+            ),
+            _ => "no checkpoint was written: make room and run the case again".to_string(),
+        };
+        anyhow::anyhow!(e).context(format!(
+            "the run stopped at t = {:.4} s because an output could not be written; \
+             series.csv ends at its last whole row; {kept}",
+            files.time_reached.get().max(0.0)
+        ))
+    })?;
     let failure = failure_of(std::mem::replace(&mut result.status, RunStatus::Finished));
     let (stats, peaks, wall_time) = (result.stats, result.peaks, result.wall_time_s);
     let measured_compression = result.hydrostatic_compression;

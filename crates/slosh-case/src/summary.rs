@@ -5,7 +5,7 @@ use slosh_core::SphParams;
 use slosh_run::{LoadFilter, LoadPeak, RoofImpact, RoofLoadSummary};
 use slosh_script::{ParamValue, TankSpec};
 
-/// The summary written to `summary.ron` (the fields are listed in the README, *Outputs*). `Default` gives its layout with zeros
+/// The summary written to `summary.ron` (the fields are listed in `docs/formats.md`). `Default` gives its layout with zeros
 /// (a sweep names its `sweep.csv` columns from it before any case has run).
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Summary {

@@ -88,7 +88,7 @@ impl Manifest {
     fn write(&self, out_dir: &Path) -> Result<()> {
         let path = out_dir.join(MANIFEST);
         let text = ron::ser::to_string_pretty(self, ron::ser::PrettyConfig::default())?;
-        std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))
+        slosh_io::write_atomic(&path, text.as_bytes()).map_err(anyhow::Error::from)
     }
 
     fn read_options(&self) -> CaseOptions {
@@ -255,6 +255,7 @@ pub fn run_local(
 ) -> Result<report::Collected> {
     let declared = manifest.declared()?;
     let plans = manifest.plans(out_dir, &declared);
+    let _held = crate::sweep::hold_folder(out_dir, "assessment")?;
     let results = crate::sweep::run_planned(
         exe,
         &manifest.case,

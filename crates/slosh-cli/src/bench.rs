@@ -1,4 +1,4 @@
-//! `slosh bench`: fixed throughput cases (README, *Performance*).
+//! `slosh bench`: fixed throughput cases (`docs/performance.md`).
 //!
 //! Every case is built, warmed up ([`WARMUP_STEPS`] steps under gravity and a small sine
 //! ground acceleration), then timed for a fixed number of steps in a rayon pool of each
@@ -452,8 +452,10 @@ pub fn cli_bench_gpu(
         std::fs::create_dir_all(&out)
             .with_context(|| format!("cannot create {}", out.display()))?;
         let path = out.join("bench_gpu.csv");
-        std::fs::write(&path, format!("{header}\n{}\n", lines.join("\n")))
-            .with_context(|| format!("cannot write {}", path.display()))?;
+        slosh_io::write_atomic(
+            &path,
+            format!("{header}\n{}\n", lines.join("\n")).as_bytes(),
+        )?;
         println!("wrote {}", path.display());
         Ok(())
     }
@@ -570,7 +572,7 @@ pub fn run_bench(cases: &[BenchCase], config: &BenchConfig, out: &Path) -> Resul
         csv.push('\n');
     }
     let path = out.join("bench.csv");
-    std::fs::write(&path, csv).with_context(|| format!("cannot write {}", path.display()))?;
+    slosh_io::write_atomic(&path, csv.as_bytes())?;
     Ok(rows)
 }
 

@@ -21,6 +21,31 @@ pub use runner::{run_case, run_case_with_stop, RunOptions, Summary};
 /// reads it.
 pub const BACKEND_ENV: &str = "SLOSH_BACKEND";
 
+/// Most worker threads per core that `--threads` may ask for: more only adds switching, and a
+/// typo (`--threads 99999999999`) must not start threads until the system refuses.
+pub const MAX_THREADS_PER_CORE: usize = 8;
+
+/// Reads a `--threads` value (every command's, also a sweep's or an assessment's array task,
+/// checked before anything starts): at least 1, at most [`MAX_THREADS_PER_CORE`] per core.
+pub fn thread_count(text: &str) -> Result<usize, String> {
+    let n: usize = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a whole number of threads"))?;
+    let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+    if n == 0 {
+        return Err("must be at least 1".into());
+    }
+    if n > MAX_THREADS_PER_CORE * cores {
+        return Err(format!(
+            "{n} is more than {MAX_THREADS_PER_CORE} per core of this machine ({cores} cores); \
+             give at most {}",
+            MAX_THREADS_PER_CORE * cores
+        ));
+    }
+    Ok(n)
+}
+
 /// Parses `--set NAME=VALUE` arguments into the overrides of a case
 /// ([`slosh_script::parse_sets`], as an error of the command line).
 pub fn parse_sets(sets: &[String]) -> anyhow::Result<slosh_script::CaseOptions> {

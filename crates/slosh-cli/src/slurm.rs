@@ -249,7 +249,7 @@ pub fn write_batch_script(path: &Path, job: &JobArray, options: &SlurmOptions) -
     let text = batch_script(job, options)?;
     std::fs::create_dir_all(&job.log_dir)
         .with_context(|| format!("cannot create {}", job.log_dir.display()))?;
-    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))?;
+    slosh_io::write_atomic(path, text.as_bytes())?;
     use std::os::unix::fs::PermissionsExt;
     std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755))
         .with_context(|| format!("cannot make {} executable", path.display()))?;

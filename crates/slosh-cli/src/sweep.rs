@@ -807,6 +807,11 @@ pub fn cli_sweep_as(
     }
 
     let csv = out_dir.join("sweep.csv");
+    // Held while this sweep runs or collects its cases in `out_dir`.
+    let _held = match mode {
+        SweepMode::Run | SweepMode::Collect => hold_folder(&out_dir, "sweep")?,
+        _ => None,
+    };
     let results = match mode {
         SweepMode::Run => run_planned(
             exe, case, &planned, &out_dir, jobs, None, quiet, allow_read, "sweep",
@@ -1164,6 +1169,34 @@ fn resumable(p: &Planned) -> bool {
             })
 }
 
+/// Holds the folder `dir` of a sweep (or an assessment, `what`) run on this machine: the
+/// system's advisory lock on the open folder, released when the process ends in any way. A
+/// second sweep into the same folder is refused before it touches a case (its cases would
+/// share folders, one's outputs replacing the other's). `None` on a file system without locks.
+/// A Slurm job's array tasks share the folder and do not take it; each case's own folder lock
+/// keeps them apart.
+pub(crate) fn hold_folder(dir: &Path, what: &str) -> Result<Option<std::fs::File>> {
+    let Ok(folder) = std::fs::File::open(dir) else {
+        return Ok(None);
+    };
+    match folder.try_lock() {
+        Ok(()) => Ok(Some(folder)),
+        Err(std::fs::TryLockError::WouldBlock) => bail!(
+            "{} is in use by another slosh {what} (it holds the folder); wait for it to end, stop \
+             it, or choose another --out folder",
+            dir.display()
+        ),
+        Err(std::fs::TryLockError::Error(_)) => Ok(None),
+    }
+}
+
+/// Whether a live slosh run holds the case folder `dir` (its lock on the open folder): its
+/// `run.log` and `summary.ron` are not this sweep's to replace.
+fn held_by_a_run(dir: &Path) -> bool {
+    std::fs::File::open(dir)
+        .is_ok_and(|f| matches!(f.try_lock(), Err(std::fs::TryLockError::WouldBlock)))
+}
+
 /// [`run_one`]'s child process: `slosh resume` with `resumable`, else `slosh run`.
 fn run_child(
     exe: &Path,
@@ -1189,6 +1222,17 @@ fn run_child(
     }
     if let Err(e) = std::fs::create_dir_all(&p.dir) {
         return fail(format!("cannot create {}: {e}", p.dir.display()), None);
+    }
+    if held_by_a_run(&p.dir) {
+        // Another run writes there now: its log and summary stay as they are.
+        return fail(
+            format!(
+                "{} is being written by another slosh run; this case was not started (run the \
+                 command again when that run has ended)",
+                p.dir.display()
+            ),
+            None,
+        );
     }
     let summary_path = p.dir.join("summary.ron");
     if !resumable {

@@ -515,6 +515,39 @@ fn absurd_thread_counts_are_refused() {
         assert!(!ok, "--threads {n} accepted");
         assert!(err.contains("--threads"), "{n}: {err}");
     }
+    // The array tasks of a sweep or an assessment check it before anything starts: no
+    // folder is made.
+    for n in ["99999999999", "0"] {
+        let sweep_out = dir.join(format!("sweep{n}"));
+        let (ok, err) = run(&[
+            "sweep",
+            c.to_str().unwrap(),
+            "--vary",
+            "duration=0.05,0.06",
+            "--task",
+            "0",
+            "--threads",
+            n,
+            "--out",
+            sweep_out.to_str().unwrap(),
+        ]);
+        assert!(!ok && err.contains("--threads"), "sweep task, {n}: {err}");
+        assert!(
+            !sweep_out.exists(),
+            "the sweep task made {}",
+            sweep_out.display()
+        );
+        let (ok, err) = run(&[
+            "assess",
+            "--task",
+            "0",
+            "--threads",
+            n,
+            "--out",
+            sweep_out.to_str().unwrap(),
+        ]);
+        assert!(!ok && err.contains("--threads"), "assess task, {n}: {err}");
+    }
 }
 
 /// Numbers no run can mean are refused with what to give instead, never a panic or a run that
@@ -731,4 +764,122 @@ fn computed_nan_sizes_and_absurd_accelerations_say_what_is_wrong() {
         err.contains("beyond any ground motion") && !err.contains("EOS"),
         "{err}"
     );
+}
+
+/// `post` outputs: a table without columns, and a second table or plot with one name (its file
+/// would replace the first), stop `post` at the call with its line; the run's own outputs stay.
+#[test]
+fn empty_or_duplicate_post_tables_are_refused_at_their_line() {
+    let cases = [
+        (
+            "empty",
+            "fn post(run) { write_table(\"bad\", #{}); }",
+            "table 'bad' has no columns",
+        ),
+        (
+            "twice",
+            "fn post(run) { write_table(\"t\", #{ a: [1.0] }); write_table(\"t\", #{ b: [2.0] }); }",
+            "the name \"t\" is used twice",
+        ),
+        (
+            "plot_twice",
+            "fn post(run) { line_plot(\"p\", \"T\", \"x\", \"y\", [0.0, 1.0], [0.0, 1.0]); \
+             line_plot(\"p\", \"T\", \"x\", \"y\", [0.0, 1.0], [1.0, 0.0]); }",
+            "the name \"p\" is used twice",
+        ),
+    ];
+    for (name, post, expected) in cases {
+        let dir = temp(&format!("post_{name}"));
+        let case = small_case(&dir, "0.0", post);
+        let out = dir.join("out");
+        let (ok, err) = run(&[
+            "run",
+            case.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ]);
+        assert!(!ok, "{name}: {err}");
+        assert!(err.contains(expected), "{name}: {err}");
+        assert!(
+            err.contains("case.rhai:12:"),
+            "{name}: the script line is named: {err}"
+        );
+        assert!(out.join("series.csv").is_file() && out.join("summary.ron").is_file());
+    }
+    // A table and a plot may share a name (post/NAME.csv and post/NAME.png).
+    let dir = temp("post_table_and_plot");
+    let case = small_case(
+        &dir,
+        "0.0",
+        "fn post(run) { write_table(\"eta\", #{ t: [0.0, 1.0] }); \
+         line_plot(\"eta\", \"T\", \"x\", \"y\", [0.0, 1.0], [0.0, 1.0]); }",
+    );
+    let out = dir.join("out");
+    let (ok, err) = run(&[
+        "run",
+        case.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.join("post/eta.csv").is_file() && out.join("post/eta.png").is_file());
+}
+
+/// A solid wholly outside the tank would be silently left out of the run; a solid that fills
+/// the liquid's place is named as such (it was reported as "dx larger than the fill depth").
+#[test]
+fn solids_outside_the_tank_or_filling_it_are_refused_by_name() {
+    let cases = [
+        (
+            "outside_2d",
+            "tank(#{ shape: \"rect\", width: 0.8, height: 0.6, depth: 0.3, roof: true, \
+             solids: [#{ name: \"baffle\", shape: \"circle\", centre: [5.0, 0.45], radius: 0.05 }] });\n\
+             numerics(#{ dx: 0.02 });",
+            "solid \"baffle\" lies outside the tank",
+        ),
+        (
+            "outside_3d",
+            "tank(#{ shape: \"cylinder\", radius: 0.3, height: 0.5, depth: 0.25, roof: \"flat\", \
+             solids: [#{ name: \"column\", shape: \"column\", centre: [2.0, 0.0], radius: 0.05, \
+             bottom: 0.0, top: 0.5 }] });\n numerics(#{ dx: 0.04 });",
+            "solid \"column\" lies outside the tank",
+        ),
+        (
+            "filling_2d",
+            "tank(#{ shape: \"rect\", width: 0.8, height: 0.6, depth: 0.3, roof: true, \
+             solids: [#{ name: \"block\", shape: \"plate\", centre: [0.4, 0.3], length: 0.9, \
+             thickness: 0.7, angle: 0.0 }] });\n numerics(#{ dx: 0.02 });",
+            "every lattice point at dx = 0.02 m lies inside a solid",
+        ),
+        (
+            "filling_3d",
+            "tank(#{ shape: \"box\", length: 0.6, breadth: 0.4, height: 0.5, depth: 0.25, \
+             roof: true, solids: [#{ name: \"block\", shape: \"block\", min: [-1.0, -1.0, -0.1], \
+             max: [1.0, 1.0, 0.4] }] });\n numerics(#{ dx: 0.05 });",
+            "every lattice point at dx = 0.05 m lies inside a solid",
+        ),
+    ];
+    for (name, tank, expected) in cases {
+        let dir = temp(&format!("solid_{name}"));
+        let case = dir.join("case.rhai");
+        std::fs::write(
+            &case,
+            format!(
+                "{tank}\nrun(#{{ settle: 0.0, duration: 0.01 }});\nfn ground_accel(t) {{ 0.0 }}\n"
+            ),
+        )
+        .unwrap();
+        let out = dir.join("out");
+        let (ok, err) = run(&[
+            "run",
+            case.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ]);
+        assert!(!ok, "{name}: {err}");
+        assert!(err.contains(expected), "{name}: {err}");
+    }
 }

@@ -315,3 +315,49 @@ fn without_a_vulkan_device_the_gpu_backend_is_refused_clearly() {
     assert!(!t.contains("panicked"), "{t}");
     assert!(out.join("summary.ron").exists(), "{t}");
 }
+
+/// Without a runtime folder (a batch job, a CI shell) a GPU run prints no stray
+/// "XDG_RUNTIME_DIR is invalid" line of Mesa's device-selection layer; on a software device
+/// (lavapipe) it warns that no GPU was found, in the terminal and in the summary.
+#[test]
+fn without_a_runtime_folder_the_gpu_run_is_quiet_and_names_a_software_device() {
+    let dir = temp("no_runtime_dir");
+    let out = dir.join("run");
+    let o = Command::new(exe())
+        .args([
+            "run",
+            "scripts/free_decay_2d.rhai",
+            "--quiet",
+            "--backend",
+            "gpu",
+            "--set",
+            "particles_per_depth=10",
+            "--set",
+            "tilt=0.1",
+            "--set",
+            "periods=0.2",
+            "--out",
+        ])
+        .arg(&out)
+        .current_dir(repo())
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("NODEVICE_SELECT")
+        .output()
+        .unwrap();
+    if no_device(&o) {
+        scenario::skip_or_require(
+            "the GPU run without a runtime folder",
+            &format!("no usable Vulkan device ({})", text(&o).trim()),
+            VULKAN_HOW,
+        );
+        return;
+    }
+    let t = text(&o);
+    assert!(o.status.success(), "{t}");
+    assert!(!t.contains("XDG_RUNTIME_DIR"), "{t}");
+    let summary = std::fs::read_to_string(out.join("summary.ron")).unwrap();
+    if device(&summary).contains("llvmpipe") {
+        assert!(t.contains("a software device on the CPU"), "{t}");
+        assert!(summary.contains("Vulkan sees no GPU"), "{summary}");
+    }
+}

@@ -284,6 +284,15 @@ fn resume_refuses_what_it_cannot_continue() {
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("not a slosh checkpoint"), "{err}");
+    // The state deleted by hand: said as a file that cannot be read (it said "cannot write").
+    std::fs::remove_file(&state).unwrap();
+    let o = slosh(&["resume", out.to_str().unwrap()]).output().unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("cannot read") && err.contains("state.bin") && !err.contains("cannot write"),
+        "{err}"
+    );
 }
 
 /// A one-case sweep of a 4 s sloshing run, stopped by SIGINT once its case has written 100

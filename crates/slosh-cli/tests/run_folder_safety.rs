@@ -311,3 +311,55 @@ fn a_killed_sweep_takes_its_running_case_with_it() {
         std::thread::sleep(std::time::Duration::from_millis(50));
     }
 }
+
+/// A link planted where a sweep writes its batch script (`sweep.sbatch`) or an assessment its
+/// manifest and batch script is refused: the link's target is neither written nor made
+/// executable.
+#[test]
+fn links_planted_where_the_batch_script_goes_are_never_written_through() {
+    let dir = temp("slurm_links");
+    let c = case(&dir, 0.02);
+    let victim = dir.join("victim.txt");
+    std::fs::write(&victim, "mine").unwrap();
+    let out = dir.join("sweep");
+    std::fs::create_dir_all(&out).unwrap();
+    std::os::unix::fs::symlink(&victim, out.join("sweep.sbatch")).unwrap();
+    let o = slosh(&[
+        "sweep",
+        c.to_str().unwrap(),
+        "--vary",
+        "amp=1,2",
+        "--slurm",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("link"), "{}", text(&o));
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "mine");
+    use std::os::unix::fs::PermissionsExt;
+    let mode = std::fs::metadata(&victim).unwrap().permissions().mode();
+    assert_eq!(mode & 0o111, 0, "the link's target was made executable");
+
+    let suite = dir.join("suite.csv");
+    std::fs::write(&suite, "name,amp\na,1.0\n").unwrap();
+    for planted in ["assess.ron", "assess.sbatch"] {
+        let out = dir.join(format!("assess_{planted}"));
+        std::fs::create_dir_all(&out).unwrap();
+        std::os::unix::fs::symlink(&victim, out.join(planted)).unwrap();
+        let o = slosh(&[
+            "assess",
+            c.to_str().unwrap(),
+            "--motions",
+            suite.to_str().unwrap(),
+            "--slurm",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(!o.status.success(), "{planted}: {}", text(&o));
+        assert_eq!(
+            std::fs::read_to_string(&victim).unwrap(),
+            "mine",
+            "{planted}"
+        );
+    }
+}

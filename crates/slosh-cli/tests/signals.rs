@@ -137,3 +137,99 @@ fn sigterm_stops_a_long_script_evaluation() {
         "stopped {waited:?} after the signal: {err}"
     );
 }
+
+/// Two sweeps into one folder: the second is refused before it touches a case (the cases would
+/// share folders); a case folder a live `slosh run` writes is left alone by a sweep (its
+/// summary is not replaced, no run.log is made there), and that case is reported failed.
+#[test]
+fn a_second_sweep_into_a_busy_folder_is_refused_and_touches_nothing() {
+    let dir = temp("two-sweeps");
+    let case = long_case(&dir);
+    let out = dir.join("sweep");
+    let first = Command::new(env!("CARGO_BIN_EXE_slosh"))
+        .args([
+            "sweep",
+            case.to_str().unwrap(),
+            "--vary",
+            "amplitude=0.004,0.006",
+        ])
+        .args(["--jobs", "1", "--quiet", "--out"])
+        .arg(&out)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let running = out.join("amplitude-0.004");
+    wait_for_lines(&running.join("series.csv"), 20);
+    let log_before = std::fs::read(running.join("run.log")).unwrap();
+    let second = Command::new(env!("CARGO_BIN_EXE_slosh"))
+        .args([
+            "sweep",
+            case.to_str().unwrap(),
+            "--vary",
+            "amplitude=0.004,0.006",
+        ])
+        .args(["--jobs", "1", "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&second.stderr);
+    assert!(!second.status.success(), "{err}");
+    assert!(err.contains("in use by another slosh sweep"), "{err}");
+    signal(&first, libc::SIGINT);
+    let o = first.wait_with_output().unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(130),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let summary = std::fs::read_to_string(running.join("summary.ron")).unwrap();
+    assert!(summary.contains("status: \"interrupted\""), "{summary}");
+    assert!(std::fs::read(running.join("run.log"))
+        .unwrap()
+        .starts_with(&log_before));
+
+    // A case folder held by a run started by hand.
+    let by_hand = out.join("amplitude-0.006");
+    let run = Command::new(env!("CARGO_BIN_EXE_slosh"))
+        .args([
+            "run",
+            case.to_str().unwrap(),
+            "--set",
+            "amplitude=0.006",
+            "--quiet",
+            "--out",
+        ])
+        .arg(&by_hand)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    wait_for_lines(&by_hand.join("series.csv"), 20);
+    let sweep = Command::new(env!("CARGO_BIN_EXE_slosh"))
+        .args(["sweep", case.to_str().unwrap(), "--vary", "amplitude=0.006"])
+        .args(["--jobs", "1", "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&sweep.stderr);
+    assert!(!sweep.status.success(), "{err}");
+    let table = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    assert!(
+        table.contains("being written by another slosh run"),
+        "{table}"
+    );
+    let summary = std::fs::read_to_string(by_hand.join("summary.ron")).unwrap();
+    assert!(summary.contains("status: \"running\""), "{summary}");
+    assert!(
+        !by_hand.join("run.log").exists(),
+        "the sweep made a run.log in a busy folder"
+    );
+    signal(&run, libc::SIGTERM);
+    let o = run.wait_with_output().unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(143),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}

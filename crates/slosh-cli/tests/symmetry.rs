@@ -3,7 +3,7 @@
 //! ρ g H²/2 (measured: ≈ 2×10⁻⁶ N/m in 3 s against 1226 N/m). The paper scheme settles from a
 //! uniform lattice through an acoustic collapse whose switches (the free-surface reset of
 //! Eq. 20, the pressure clamp) amplify round-off into a left–right difference: its base shear
-//! reaches ≈ 20 % of ρ g H²/2 within 3 s (8 % low-pass), a noise floor the README reports.
+//! reaches ≈ 20 % of ρ g H²/2 within 3 s (8 % low-pass), a noise floor `docs/paper-scheme.md` reports (*The settling period*).
 
 use std::process::Command;
 

@@ -56,7 +56,7 @@ pub enum DensityDiffusion {
 /// density rate).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum BoundaryMethod {
-    /// Paper (README, *The "paper" scheme*): wall density by summation (Eq. 19, with the Eq. 20 reset), wall
+    /// Paper (`docs/paper-scheme.md`): wall density by summation (Eq. 19, with the Eq. 20 reset), wall
     /// pressure from the EOS ("dynamic boundary" particles).
     Dynamic,
     /// Generalised wall of Adami, Hu & Adams (2012, J. Comput. Phys. 231, Eq. 27):
@@ -212,7 +212,7 @@ pub enum Integrator {
     Symplectic,
 }
 
-/// Solver parameters. Units are SI; defaults are the paper's values as the README's *The "paper" scheme* reads them.
+/// Solver parameters. Units are SI; defaults are the paper's values as `docs/paper-scheme.md` reads them.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct SphParams {
     /// Reference density ρ0 (kg/m³).
@@ -244,7 +244,7 @@ pub struct SphParams {
     pub av_sound_speed: ArtificialSoundSpeed,
     /// β_s of the free-surface density reset (Eq. 20).
     pub free_surface_threshold: f64,
-    /// Clamp negative pressure to zero (p = max(p, 0)) on all particles (README, *The "paper" scheme*, item 2).
+    /// Clamp negative pressure to zero (p = max(p, 0)) on all particles (`docs/paper-scheme.md`, item 2).
     pub clamp_negative_pressure: bool,
     /// Adami walls only: floor the extrapolated wall pressure at zero, so that liquid leaving
     /// a wall (a wave falling from the roof) is not held by suction. The fluid's own pressure

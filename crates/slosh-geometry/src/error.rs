@@ -50,6 +50,15 @@ pub enum GeometryError {
         /// Fill depth (m).
         fill: f64,
     },
+    /// No lattice point below the fill level is inside the tank and outside every solid: the
+    /// solids fill the liquid's place.
+    #[error("no fluid particle fits: below the fill level (fill depth {fill} m) every lattice point at dx = {dx} m lies inside a solid; move or shrink the solids")]
+    NoLiquidRegion {
+        /// Particle spacing (m).
+        dx: f64,
+        /// Fill depth (m).
+        fill: f64,
+    },
     /// A tank dimension is not a whole number of particle spacings.
     #[error("{what} {size} m is not a whole number of particle spacings dx = {dx} m ({ratio:.4} spacings); choose a dx that divides it, e.g. dx = {suggestion} m")]
     NotMultipleOfSpacing {

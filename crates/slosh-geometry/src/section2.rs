@@ -969,9 +969,16 @@ impl SectionTank2 {
             }
         }
         if setup.fluid_positions.is_empty() {
-            return Err(GeometryError::SpacingAboveFill {
-                dx,
-                fill: self.fill_depth,
+            return Err(if dx > self.fill_depth || self.solids.is_empty() {
+                GeometryError::SpacingAboveFill {
+                    dx,
+                    fill: self.fill_depth,
+                }
+            } else {
+                GeometryError::NoLiquidRegion {
+                    dx,
+                    fill: self.fill_depth,
+                }
             });
         }
 

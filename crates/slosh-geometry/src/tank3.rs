@@ -1600,6 +1600,12 @@ pub(crate) fn build_mesh_tank_with_parts(
             }
         }
     }
+    if fluid_positions.is_empty() && !spec.solids.is_empty() {
+        return Err(GeometryError::NoLiquidRegion {
+            dx,
+            fill: spec.fill_depth,
+        });
+    }
 
     // areas
     let n_parts = part_names.len();

@@ -123,6 +123,10 @@ fn real_bytes(c: &ShaderConstants) -> u64 {
     }
 }
 
+/// Said in a device's description when it is a software one (Mesa's lavapipe, SwiftShader):
+/// the step runs on the CPU's cores through the Vulkan driver.
+pub const SOFTWARE_DEVICE: &str = "a software device on the CPU";
+
 /// Real number `k` of bytes read back from the device, as f64.
 fn real_at(raw: &[u8], k: usize, single: bool) -> f64 {
     if single {
@@ -146,7 +150,15 @@ impl<const D: usize> GpuStep<D> {
         }))
         .map_err(|e| GpuError::NoDevice(format!(" ({e})")))?;
         let info = adapter.get_info();
-        let name = format!("{} ({:?}, {})", info.name, info.backend, info.driver_info);
+        let software = if info.device_type == wgpu::DeviceType::Cpu {
+            format!(", {SOFTWARE_DEVICE}")
+        } else {
+            String::new()
+        };
+        let name = format!(
+            "{} ({:?}, {}{software})",
+            info.name, info.backend, info.driver_info
+        );
         let features = if single {
             wgpu::Features::empty()
         } else {

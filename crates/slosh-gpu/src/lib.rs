@@ -14,7 +14,7 @@
 mod device;
 mod shader;
 
-pub use device::{GpuError, GpuStep};
+pub use device::{GpuError, GpuStep, SOFTWARE_DEVICE};
 
 use slosh_core::{SimError, Simulation};
 

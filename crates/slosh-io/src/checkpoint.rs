@@ -67,7 +67,7 @@ pub fn write_checkpoint<T: Serialize>(path: &Path, value: &T) -> Result<u64> {
 /// Reads a checkpoint written by [`write_checkpoint`]; a file that is not a checkpoint, of
 /// another container version, cut short or corrupted is refused with a message saying which.
 pub fn read_checkpoint<T: DeserializeOwned>(path: &Path) -> Result<T> {
-    let bytes = std::fs::read(path).map_err(|e| io_error(path, e))?;
+    let bytes = std::fs::read(path).map_err(|e| IoError::read(path, e))?;
     if bytes.len() < HEADER_BYTES || &bytes[..8] != CHECKPOINT_MAGIC {
         return Err(invalid(path, "not a slosh checkpoint file"));
     }

@@ -7,10 +7,19 @@ use std::path::{Path, PathBuf};
 /// Every variant names the file it concerns, so a message can tell the user where to look.
 #[derive(Debug, thiserror::Error)]
 pub enum IoError {
-    /// The operating system refused a file operation (create, write, rename, read).
+    /// The operating system refused a file operation (create, write, rename).
     #[error("cannot write `{path}`: {source}")]
     Io {
         /// The file or directory concerned.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The operating system refused to read a file (missing, unreadable).
+    #[error("cannot read `{path}`: {source}")]
+    Read {
+        /// The file concerned.
         path: PathBuf,
         /// The underlying error.
         #[source]
@@ -70,6 +79,7 @@ impl IoError {
     pub fn path(&self) -> &Path {
         match self {
             IoError::Io { path, .. }
+            | IoError::Read { path, .. }
             | IoError::Csv { path, .. }
             | IoError::RonSerialize { path, .. }
             | IoError::RonParse { path, .. }
@@ -80,6 +90,13 @@ impl IoError {
 
     pub(crate) fn io(path: &Path, source: std::io::Error) -> Self {
         IoError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+
+    pub(crate) fn read(path: &Path, source: std::io::Error) -> Self {
+        IoError::Read {
             path: path.to_path_buf(),
             source,
         }
@@ -141,7 +158,7 @@ pub(crate) fn refuse_link(path: &Path) -> Result<()> {
 
 /// Writes `bytes` to `path` atomically: first to a fresh temporary sibling ([`create_fresh`]),
 /// then renamed over `path`, so a reader (or an aborted run) never sees a half-written file.
-pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     use std::io::Write;
     ensure_parent(path)?;
     let mut tmp_name = path.as_os_str().to_owned();

@@ -1,4 +1,4 @@
-//! Writers for the files a slosh run produces (listed in the README, *Outputs*):
+//! Writers for the files a slosh run produces (listed in `docs/formats.md`):
 //!
 //! - [`series`]: `series.csv` time series (+ `series_units.csv`) and other CSV tables;
 //! - [`summary`]: pretty RON files such as `summary.ron`;
@@ -21,12 +21,12 @@ pub mod summary;
 pub mod vtk;
 
 pub use checkpoint::{read_checkpoint, write_checkpoint};
-pub use error::{IoError, Result};
+pub use error::{create_fresh, write_atomic, IoError, Result};
 pub use plot::{
     heatmap, line_plot, scatter_with_identity, Field2d, PlotSpec, Series, SeriesStyle, PALETTE,
 };
 pub use series::{
     format_f64, read_table, units_path_for, write_grid_csv, SeriesWriter, Table, TableWriter,
 };
-pub use summary::{read_ron, write_ron};
+pub use summary::{overwrite_ron_in_place, read_ron, write_ron};
 pub use vtk::{write_vtp, ArrayData, FrameSeries, PointArray, PvdIndex};

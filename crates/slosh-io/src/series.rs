@@ -11,7 +11,9 @@
 //! (`1.5e-9`) for very small or large ones; non-finite values are written as `NaN`, `inf`,
 //! `-inf`, which Python, NumPy, pandas and Rust all parse.
 
+use std::cell::Cell;
 use std::fs::File;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -30,14 +32,57 @@ pub fn format_f64(x: f64) -> String {
     }
 }
 
+/// The file under a [`TableWriter`]: counts the bytes the system took and, after a failed
+/// write (a full disk), refuses every later one, so that nothing reaches the file past the
+/// point where the writer cut it back to its last whole row.
+struct RowFile {
+    file: File,
+    written: u64,
+    failed: Cell<bool>,
+}
+
+impl Write for RowFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        if self.failed.get() {
+            return Err(std::io::Error::other(
+                "an earlier write to this file failed",
+            ));
+        }
+        match self.file.write(buf) {
+            Ok(n) => {
+                self.written += n as u64;
+                Ok(n)
+            }
+            Err(e) => {
+                self.failed.set(true);
+                Err(e)
+            }
+        }
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        if self.failed.get() {
+            return Err(std::io::Error::other(
+                "an earlier write to this file failed",
+            ));
+        }
+        self.file.flush()
+    }
+}
+
 /// A CSV table of numbers with a header row of column names, flushed to disk regularly.
+///
+/// A failed write (a full disk) cuts the file back to its last whole row and ends the
+/// writer: a table on disk never ends mid-row.
 ///
 /// By default every row is flushed as soon as it is written, so that an aborted run leaves
 /// all rows written so far on disk; [`TableWriter::set_flush_interval`] trades that for fewer
 /// system calls. Dropping the writer flushes it too.
 pub struct TableWriter {
     path: PathBuf,
-    writer: csv::Writer<File>,
+    writer: csv::Writer<RowFile>,
+    /// Bytes of the file known to be on disk, ending at a whole row.
+    whole_rows_len: u64,
     /// For a table written whole: the file it becomes at [`TableWriter::finish`] (`path` is
     /// then its temporary `.part` sibling).
     finished_path: Option<PathBuf>,
@@ -99,13 +144,18 @@ impl TableWriter {
         }
         ensure_parent(&path)?;
         let file: File = create_fresh(&path).map_err(|e| IoError::io(&path, e))?;
-        let mut writer = csv::WriterBuilder::new().from_writer(file);
+        let mut writer = csv::WriterBuilder::new().from_writer(RowFile {
+            file,
+            written: 0,
+            failed: Cell::new(false),
+        });
         writer
             .write_record(&columns)
             .map_err(|e| csv_err(&path, e))?;
         writer.flush().map_err(|e| IoError::io(&path, e))?;
         Ok(Self {
             path,
+            whole_rows_len: writer.get_ref().written,
             writer,
             finished_path: None,
             fields: Vec::with_capacity(columns.len()),
@@ -136,9 +186,10 @@ impl TableWriter {
         }
         self.fields.clear();
         self.fields.extend(values.iter().map(|&v| format_f64(v)));
-        self.writer
-            .write_record(&self.fields)
-            .map_err(|e| csv_err(&self.path, e))?;
+        if let Err(e) = self.writer.write_record(&self.fields) {
+            self.cut_to_whole_rows();
+            return Err(csv_err(&self.path, e));
+        }
         self.after_row()
     }
 
@@ -154,9 +205,10 @@ impl TableWriter {
                 ),
             ));
         }
-        self.writer
-            .write_record(fields.iter().map(|s| s.as_ref()))
-            .map_err(|e| csv_err(&self.path, e))?;
+        if let Err(e) = self.writer.write_record(fields.iter().map(|s| s.as_ref())) {
+            self.cut_to_whole_rows();
+            return Err(csv_err(&self.path, e));
+        }
         self.after_row()
     }
 
@@ -171,16 +223,36 @@ impl TableWriter {
     /// Writes all buffered rows to the file.
     pub fn flush(&mut self) -> Result<()> {
         self.last_flush = Instant::now();
-        self.writer.flush().map_err(|e| IoError::io(&self.path, e))
+        match self.writer.flush() {
+            Ok(()) => {
+                self.whole_rows_len = self.writer.get_ref().written;
+                Ok(())
+            }
+            Err(e) => {
+                self.cut_to_whole_rows();
+                Err(IoError::io(&self.path, e))
+            }
+        }
+    }
+
+    /// After a failed write: the file is cut back to its last whole row on disk, and no later
+    /// write (nor the flush when the writer is dropped) reaches it.
+    fn cut_to_whole_rows(&mut self) {
+        let file = self.writer.get_ref();
+        file.failed.set(true);
+        // Freeing the partial row's bytes needs no space; if even that fails, the row stays
+        // cut (a reader of the file sees one short last line).
+        let _ = file.file.set_len(self.whole_rows_len);
     }
 
     /// Writes the buffered rows and, for a table made by [`TableWriter::create_whole`],
-    /// renames it into place.
+    /// renames it into place (a table that cannot be finished removes its `.part` file).
     pub fn finish(mut self) -> Result<()> {
         self.flush()?;
-        if let Some(done) = self.finished_path.take() {
+        if let Some(done) = self.finished_path.clone() {
             refuse_link(&done)?;
             std::fs::rename(&self.path, &done).map_err(|e| IoError::io(&done, e))?;
+            self.finished_path = None;
         }
         Ok(())
     }
@@ -198,6 +270,17 @@ impl TableWriter {
     /// How many data rows have been written (header not counted).
     pub fn rows_written(&self) -> usize {
         self.rows
+    }
+}
+
+impl Drop for TableWriter {
+    /// A table meant to appear only whole that was not finished (a failed write, an error
+    /// of its producer) removes its own `.part` file.
+    fn drop(&mut self) {
+        if self.finished_path.is_some() {
+            self.writer.get_ref().failed.set(true);
+            let _ = std::fs::remove_file(&self.path);
+        }
     }
 }
 

@@ -21,10 +21,44 @@ pub fn write_ron<T: Serialize + ?Sized>(path: impl AsRef<Path>, value: &T) -> Re
     write_atomic(path, text.as_bytes())
 }
 
+/// Overwrites the existing file `path` with `value` in place, for a full disk where
+/// [`write_ron`]'s temporary sibling cannot be written: cutting the old file first frees the
+/// space the new text needs. Refuses a link or anything but an existing regular file. A
+/// reader may see the file half-written while this runs; use [`write_ron`] wherever it can.
+pub fn overwrite_ron_in_place<T: Serialize + ?Sized>(
+    path: impl AsRef<Path>,
+    value: &T,
+) -> Result<()> {
+    use std::io::Write;
+    let path = path.as_ref();
+    let mut text =
+        ron::ser::to_string_pretty(value, ron::ser::PrettyConfig::new()).map_err(|source| {
+            IoError::RonSerialize {
+                path: path.to_path_buf(),
+                source,
+            }
+        })?;
+    text.push('\n');
+    crate::error::refuse_link(path)?;
+    let mut options = std::fs::OpenOptions::new();
+    options.write(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(libc::O_NOFOLLOW);
+    }
+    let written = options.open(path).and_then(|mut file| {
+        file.set_len(0)?;
+        file.write_all(text.as_bytes())?;
+        file.sync_all()
+    });
+    written.map_err(|e| IoError::io(path, e))
+}
+
 /// Reads a RON file written by [`write_ron`] (or by hand) back into a `T`.
 pub fn read_ron<T: DeserializeOwned>(path: impl AsRef<Path>) -> Result<T> {
     let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|e| IoError::io(path, e))?;
+    let text = std::fs::read_to_string(path).map_err(|e| IoError::read(path, e))?;
     ron::from_str(&text).map_err(|source| IoError::RonParse {
         path: path.to_path_buf(),
         source: Box::new(source),

@@ -1,5 +1,5 @@
 //! Ground motions: the ground acceleration a_g(t) that acts on the liquid as the body force
-//! −a_g(t) in the tank frame (README, *Sign conventions*).
+//! −a_g(t) in the tank frame (`docs/ground-motion.md`, *Sign conventions*).
 
 use std::error::Error;
 

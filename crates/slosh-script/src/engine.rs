@@ -229,6 +229,12 @@ pub(crate) fn build_engine(
                     ))
                 })?);
             }
+            if cols.is_empty() {
+                return Err(runtime_error(format!(
+                    "write_table: table '{name}' has no columns (give a map of column name → \
+                     array of numbers)"
+                )));
+            }
             let n = cols.first().map(|c| c.len()).unwrap_or(0);
             if cols.iter().any(|c| c.len() != n) {
                 return Err(runtime_error(
@@ -239,10 +245,9 @@ pub(crate) fn build_engine(
             let rows = (0..n)
                 .map(|i| cols.iter().map(|c| c[i]).collect())
                 .collect();
-            s.lock()
-                .map_err(|_| runtime_error("internal lock"))?
-                .tables
-                .push((name.to_string(), header, rows));
+            let mut d = s.lock().map_err(|_| runtime_error("internal lock"))?;
+            check_post_name_unused(&d, name, PostOutput::Table)?;
+            d.tables.push((name.to_string(), header, rows));
             Ok(())
         },
     );
@@ -266,17 +271,16 @@ pub(crate) fn build_engine(
                 ));
             }
             check_file_stem(name)?;
-            s.lock()
-                .map_err(|_| runtime_error("internal lock"))?
-                .plots
-                .push(PlotRequest {
-                    name: name.into(),
-                    title: title.into(),
-                    x_label: x_label.into(),
-                    y_label: y_label.into(),
-                    xs,
-                    ys,
-                });
+            let mut d = s.lock().map_err(|_| runtime_error("internal lock"))?;
+            check_post_name_unused(&d, name, PostOutput::Plot)?;
+            d.plots.push(PlotRequest {
+                name: name.into(),
+                title: title.into(),
+                x_label: x_label.into(),
+                y_label: y_label.into(),
+                xs,
+                ys,
+            });
             Ok(())
         },
     );
@@ -398,6 +402,33 @@ fn check_file_stem(name: &str) -> Result<(), Box<EvalAltResult>> {
         )));
     }
     Ok(())
+}
+
+/// Refuses a second table (`post/NAME.csv`) or a second plot (`post/NAME.png`) with one
+/// name, which would replace the first file.
+fn check_post_name_unused(
+    d: &Declared,
+    name: &str,
+    kind: PostOutput,
+) -> Result<(), Box<EvalAltResult>> {
+    let (used, what) = match kind {
+        PostOutput::Table => (d.tables.iter().any(|t| t.0 == name), "write_table"),
+        PostOutput::Plot => (d.plots.iter().any(|p| p.name == name), "line_plot"),
+    };
+    if used {
+        return Err(runtime_error(format!(
+            "{what}: the name \"{name}\" is used twice (the second file would replace the \
+             first); give each its own name"
+        )));
+    }
+    Ok(())
+}
+
+/// The two kinds of file `post` writes.
+#[derive(Clone, Copy)]
+enum PostOutput {
+    Table,
+    Plot,
 }
 
 /// An array of numbers as Vec<f64>.

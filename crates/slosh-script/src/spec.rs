@@ -705,7 +705,7 @@ fn is_cubic(lattice: &str) -> bool {
 }
 
 /// Reads a cylinder's `lattice`, "cubic" or "polar". Left out, it is "polar" (liquid and shell
-/// on rings fitted to the shell, which damps the first mode least; README, *3D tanks*) where
+/// on rings fitted to the shell, which damps the first mode least; `docs/tanks.md`, *The polar lattice*) where
 /// that lattice applies — a built-in roof and no internal solids — and "cubic" otherwise.
 fn cylinder_lattice(
     r: &mut MapReader,

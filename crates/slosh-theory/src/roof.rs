@@ -19,7 +19,7 @@ pub fn malhotra_roof_pressure(density: f64, gravity: f64, contact_extent: f64, a
 }
 
 /// Kurihara, Masuko & Sakurai (1991) peak roof impact pressure, paper Eq. 28 (Pa), with the
-/// unit reading of the README's *Roof loads* (the "ρ/g" of Eq. 28 is the mass density ρ_m):
+/// unit reading of `docs/roof-loads.md` (the "ρ/g" of Eq. 28 is the mass density ρ_m):
 ///
 /// P = 6.63 ρ_m (H+H′) l/H′ · (0.2l + H + H′)/(0.4l + H + H′)² · v²
 ///   + 0.35 ρ_m l (H+H′)/(0.4l + H + H′) · ω v

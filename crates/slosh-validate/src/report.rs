@@ -2,7 +2,7 @@
 //! notes and plots.
 
 use super::{Check, ValidationReport, Verdict};
-use anyhow::{Context, Result};
+use anyhow::Result;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -99,6 +99,6 @@ pub fn write_report(report: &ValidationReport, path: &Path) -> Result<()> {
             let _ = writeln!(md, "_{:.2e} particle-steps._\n", g.particle_steps);
         }
     }
-    std::fs::write(path, md).with_context(|| format!("cannot write {}", path.display()))?;
+    slosh_io::write_atomic(path, md.as_bytes())?;
     Ok(())
 }

@@ -53,7 +53,7 @@ pub struct AssessArgs {
     pub task: Option<Option<usize>>,
     /// Threads of the task's run (with --task; default: $SLURM_CPUS_PER_TASK when set, else
     /// all cores).
-    #[arg(long, value_name = "N", requires = "task")]
+    #[arg(long, value_name = "N", requires = "task", value_parser = crate::thread_count)]
     pub threads: Option<usize>,
     /// Write the report of the assessment in --out DIR from its finished runs and list the
     /// missing and failed ones.

@@ -455,7 +455,7 @@ impl<const D: usize> Simulation<D> {
         self.phase_times.integration += integration_start.elapsed().as_secs_f64();
     }
 
-    /// The step (s): the acoustic, force and viscous bounds (README, *The "paper" scheme*, item 4) from the current
+    /// The step (s): the acoustic, force and viscous bounds (`docs/paper-scheme.md`, item 4) from the current
     /// velocities and the last accelerations, or the fixed dt; updates the statistics. Both
     /// schemes.
     pub(crate) fn time_step(&mut self) -> f64 {
