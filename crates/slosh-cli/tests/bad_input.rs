@@ -883,3 +883,21 @@ fn solids_outside_the_tank_or_filling_it_are_refused_by_name() {
         assert!(err.contains(expected), "{name}: {err}");
     }
 }
+
+/// `case_name("…")` names the default output folder `out/<name>`; a name that is a path is
+/// refused (it would put the run outside `out/`).
+#[test]
+fn case_name_sets_the_folder_and_refuses_a_path() {
+    let dir = temp("case_name");
+    for (name, ok_expected) in [("my_named", true), ("../escape", false)] {
+        let case = small_case(&dir, "0.0", &format!("case_name(\"{name}\");"));
+        let (ok, err) = run(&["run", case.to_str().unwrap(), "--quiet"]);
+        assert_eq!(ok, ok_expected, "{name}: {err}");
+        if ok {
+            assert!(dir.join("out/my_named/summary.ron").is_file());
+        } else {
+            assert!(err.contains("must be a plain folder name"), "{err}");
+            assert!(!dir.join("escape").exists());
+        }
+    }
+}

@@ -222,7 +222,7 @@ impl RunData {
 
 /// A loaded case: everything needed to build and run the simulation.
 pub struct Case {
-    /// Case name (the script's file stem unless `case(#{name: ...})` says otherwise).
+    /// Case name (the script's file stem unless `case_name("…")` says otherwise).
     pub name: String,
     /// The script file.
     pub script: PathBuf,
@@ -426,7 +426,7 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
                 .any(|c| c == '/' || c == '\\' || c.is_control())
         {
             return Err(err(format!(
-                "case: name {name:?} must be a plain folder name (no '/', '\\', control \
+                "case_name: {name:?} must be a plain folder name (no '/', '\\', control \
                  characters, and not \".\" or \"..\"): it becomes the output folder out/<name>"
             )));
         }

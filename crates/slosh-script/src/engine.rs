@@ -17,7 +17,7 @@ pub(crate) struct Declared {
     pub params: Vec<ParamDecl>,
     /// The script's source lines, for the trailing comments that document parameters.
     pub source_lines: Vec<String>,
-    /// `case(#{...})` map.
+    /// The case's name from `case_name("…")`, as a map `#{ name }`.
     pub case: Option<Map>,
     /// `tank(#{...})` map.
     pub tank: Option<Map>,
@@ -138,13 +138,28 @@ pub(crate) fn build_engine(
                 })
         },
     );
-    for key in ["case", "tank", "numerics", "run"] {
+    // `case_name("…")`: the case's name (Rhai reserves the keyword `case`, so no script could
+    // call a function of that name).
+    let s = shared.clone();
+    engine.register_fn(
+        "case_name",
+        move |name: &str| -> Result<(), Box<EvalAltResult>> {
+            let mut d = s.lock().map_err(|_| runtime_error("internal lock"))?;
+            if d.case.is_some() {
+                return Err(runtime_error("case_name(…) is called twice"));
+            }
+            let mut map = Map::new();
+            map.insert("name".into(), name.into());
+            d.case = Some(map);
+            Ok(())
+        },
+    );
+    for key in ["tank", "numerics", "run"] {
         let s = shared.clone();
         let files = sandbox.clone();
         engine.register_fn(key, move |map: Map| -> Result<(), Box<EvalAltResult>> {
             let mut d = s.lock().map_err(|_| runtime_error("internal lock"))?;
             let slot = match key {
-                "case" => &mut d.case,
                 "tank" => &mut d.tank,
                 "numerics" => &mut d.numerics,
                 _ => &mut d.run,
