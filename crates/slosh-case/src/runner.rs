@@ -436,6 +436,17 @@ fn run_built<const D: usize>(
             design_periods: case.run.roof_periods.clone(),
         },
     };
+    // Roof loads: the clearance against the particle spacing (the roof's reach through the
+    // kernel shortens the clearance the roof load sees).
+    if sim.part_names().iter().any(|n| n == "roof") {
+        if let Some(w) = slosh_run::roof_load::clearance_resolution_warning(
+            plan.roof_tank.freeboard,
+            sim.spacing(),
+        ) {
+            eprintln!("warning: {w}");
+            warnings.push(w);
+        }
+    }
     let mut files = RunFiles {
         out: out.clone(),
         series: None,

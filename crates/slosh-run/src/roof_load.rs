@@ -31,6 +31,38 @@ pub const SPECTRUM_RANGE: (f64, f64) = (0.005, 2.0);
 /// Points of the roof load spectrum.
 pub const SPECTRUM_POINTS: usize = 53;
 
+/// How far below the roof the roof load starts, in particle spacings dx: the liquid's highest
+/// particle is ≈ 2–2.8 dx below the roof face at the first roof force, and raising the roof by
+/// 1 dx at dx = 0.02 and 0.01 m gives the first impact and the kinetic energy of the run at
+/// dx = 0.005 m (2D resonant sloshing, modern preset, h = 2 dx; `docs/roof-loads.md`, *Why the
+/// roof load moves with resolution*). The roof is felt through the kernel's support before
+/// the liquid reaches it, so the clearance the roof load sees is short by about this much.
+pub const ROOF_REACH_SPACINGS: f64 = 2.0;
+
+/// Particle spacings the roof clearance needs for the roof's reach
+/// ([`ROOF_REACH_SPACINGS`]) to shorten it by at most 5 %.
+pub const CLEARANCE_SPACINGS_FOR_ROOF_LOADS: f64 = ROOF_REACH_SPACINGS / 0.05;
+
+/// The warning of a roofed run whose clearance `freeboard` H′ (m, at the wall) holds fewer
+/// than [`CLEARANCE_SPACINGS_FOR_ROOF_LOADS`] particle spacings `dx` (m): its roof loads see a
+/// clearance short by ≈ 2 dx, 5 % of it at dx = H′/40.
+pub fn clearance_resolution_warning(freeboard: f64, dx: f64) -> Option<String> {
+    let spacings = freeboard / dx;
+    (freeboard > 0.0 && dx > 0.0 && spacings < CLEARANCE_SPACINGS_FOR_ROOF_LOADS).then(|| {
+        format!(
+            "the roof clearance H′ = {freeboard:.4} m holds {spacings:.1} particle spacings \
+             (dx = {dx} m): the roof load starts ≈ {ROOF_REACH_SPACINGS} dx = {:.4} m before \
+             the liquid reaches the roof (the kernel's reach), so the clearance the roof load \
+             sees is ≈ {:.0} % short and the roof loads move with dx; the shortfall is 5 % at \
+             dx = H′/{CLEARANCE_SPACINGS_FOR_ROOF_LOADS:.0} = {:.4} m (docs/roof-loads.md; \
+             check with slosh converge)",
+            ROOF_REACH_SPACINGS * dx,
+            100.0 * ROOF_REACH_SPACINGS * dx / freeboard,
+            freeboard / CLEARANCE_SPACINGS_FOR_ROOF_LOADS,
+        )
+    })
+}
+
 /// An impact starts when the roof force, averaged over an output interval, exceeds this
 /// fraction of the freeboard force F_ref = ρ g H′ A_roof, and ends when it falls below
 /// [`IMPACT_OFF`]: a crest one freeboard high pressing on 2 % of the roof, far above what a
@@ -669,6 +701,20 @@ impl Spread {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn a_clearance_of_few_spacings_is_warned_with_the_shortfall() {
+        // 0.1 m at dx = 0.02 m: 5 spacings, the reach of 2 dx is 40 % of the clearance.
+        let w = clearance_resolution_warning(0.1, 0.02).expect("a warning");
+        assert!(
+            w.contains("5.0 particle spacings") && w.contains("≈ 40 % short"),
+            "{w}"
+        );
+        assert!(w.contains("dx = H′/40 = 0.0025 m"), "{w}");
+        // 40 spacings and more: no warning; no roof (no clearance): none.
+        assert!(clearance_resolution_warning(0.1, 0.0025).is_none());
+        assert!(clearance_resolution_warning(0.0, 0.02).is_none());
+    }
     use super::*;
     use std::f64::consts::PI;
 
