@@ -105,6 +105,14 @@ pub fn full_cases() -> Vec<BenchCase> {
             steps: 20,
             kdtree: false,
         },
+        // ≈ 1M particles: the size at which a GPU is judged against the CPU.
+        BenchCase {
+            name: "3d-1m",
+            tank: BenchTank::Cylinder3,
+            dx: 0.008,
+            steps: 10,
+            kdtree: false,
+        },
         // The real tank at 24 particles per radius (≈ 75k particles).
         BenchCase {
             name: "3d-real",

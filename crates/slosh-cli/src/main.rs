@@ -53,7 +53,7 @@ struct BenchArgs {
     #[arg(long)]
     out: Option<PathBuf>,
     /// Thread counts to time, comma-separated (default: all cores, then 1).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', value_parser = slosh_cli::thread_count)]
     threads: Option<Vec<usize>>,
     /// Only these cases, comma-separated (e.g. `--case 2d-80k`); names as in bench.csv.
     #[arg(long, value_delimiter = ',')]
