@@ -48,6 +48,34 @@ pub enum BenchTank {
     /// water, cone roof rising 1.5 m; the sound speed from the tank (the laboratory cases keep
     /// the paper's stiffness so that their figures compare across commits).
     RealCylinder3,
+    /// The roof-impact tank of paper §3.2 and Fig. 10: 1 m wide, flat roof at 0.6 m, 0.5 m of
+    /// water.
+    RoofRect2,
+}
+
+impl BenchTank {
+    /// The tank, when it is a 2D one.
+    fn rect2(self) -> Option<RectTank2> {
+        match self {
+            BenchTank::PaperRect2 => Some(RectTank2::new(1.0, 1.0, 0.5)),
+            BenchTank::RoofRect2 => Some(RectTank2::new(1.0, 0.6, 0.5)),
+            BenchTank::Cylinder3 | BenchTank::RealCylinder3 => None,
+        }
+    }
+
+    /// The tank, when it is a 3D one.
+    fn cylinder3(self) -> Option<CylinderTank> {
+        match self {
+            BenchTank::Cylinder3 => Some(CylinderTank::new(0.5, 0.6, 0.5, Roof::Flat)),
+            BenchTank::RealCylinder3 => Some(CylinderTank::new(
+                12.0,
+                16.0,
+                13.0,
+                Roof::Cone { apex_height: 1.5 },
+            )),
+            BenchTank::PaperRect2 | BenchTank::RoofRect2 => None,
+        }
+    }
 }
 
 /// One fixed bench case.
@@ -113,12 +141,35 @@ pub fn full_cases() -> Vec<BenchCase> {
             steps: 10,
             kdtree: false,
         },
-        // The real tank at 24 particles per radius (≈ 75k particles).
+        // The roof-impact tank at the finest lattice of the roof-load study (dx = 0.005 m).
+        BenchCase {
+            name: "2d-roof-5mm",
+            tank: BenchTank::RoofRect2,
+            dx: 0.005,
+            steps: 500,
+            kdtree: false,
+        },
+        // The real tank at 16, 24 and 32 particles per radius (≈ 25k, 75k and 180k particles):
+        // what a recorded motion costs at the resolutions of a convergence study.
+        BenchCase {
+            name: "3d-real-16",
+            tank: BenchTank::RealCylinder3,
+            dx: 0.75,
+            steps: 40,
+            kdtree: false,
+        },
         BenchCase {
             name: "3d-real",
             tank: BenchTank::RealCylinder3,
             dx: 0.5,
             steps: 40,
+            kdtree: false,
+        },
+        BenchCase {
+            name: "3d-real-32",
+            tank: BenchTank::RealCylinder3,
+            dx: 0.375,
+            steps: 30,
             kdtree: false,
         },
     ]
@@ -394,24 +445,14 @@ pub fn cli_bench_gpu(
         let mut lines = Vec::new();
         let mut header = String::new();
         for case in &cases {
-            let (row, kernels) = match case.tank {
-                BenchTank::PaperRect2 => gpu_case::<2>(case, precision, |layers| {
-                    Ok(RectTank2::new(1.0, 1.0, 0.5)
-                        .with_layers(layers)
-                        .build(case.dx)?)
+            let (row, kernels) = match (case.tank.rect2(), case.tank.cylinder3()) {
+                (Some(tank), _) => gpu_case::<2>(case, precision, |layers| {
+                    Ok(tank.clone().with_layers(layers).build(case.dx)?)
                 }),
-                BenchTank::Cylinder3 => gpu_case::<3>(case, precision, |layers| {
-                    Ok(CylinderTank::new(0.5, 0.6, 0.5, Roof::Flat)
-                        .with_layers(layers)
-                        .build(case.dx)?)
+                (_, Some(tank)) => gpu_case::<3>(case, precision, |layers| {
+                    Ok(tank.clone().with_layers(layers).build(case.dx)?)
                 }),
-                BenchTank::RealCylinder3 => gpu_case::<3>(case, precision, |layers| {
-                    Ok(
-                        CylinderTank::new(12.0, 16.0, 13.0, Roof::Cone { apex_height: 1.5 })
-                            .with_layers(layers)
-                            .build(case.dx)?,
-                    )
-                }),
+                (None, None) => bail!("bench case {}: no tank", case.name),
             }
             .with_context(|| format!("GPU bench case {}", case.name))?;
             let total: f64 = kernels.iter().map(|k| k.1).sum();
@@ -543,30 +584,18 @@ pub fn run_bench(cases: &[BenchCase], config: &BenchConfig, out: &Path) -> Resul
             backends.push(NeighbourBackend::KdTree);
         }
         for backend in backends {
-            let new_rows = match case.tank {
-                BenchTank::PaperRect2 => {
+            let new_rows = match (case.tank.rect2(), case.tank.cylinder3()) {
+                (Some(tank), _) => {
                     run_case::<2>(case, backend, config, &pools, &version, |layers| {
-                        Ok(RectTank2::new(1.0, 1.0, 0.5)
-                            .with_layers(layers)
-                            .build(case.dx)?)
+                        Ok(tank.clone().with_layers(layers).build(case.dx)?)
                     })
                 }
-                BenchTank::Cylinder3 => {
+                (_, Some(tank)) => {
                     run_case::<3>(case, backend, config, &pools, &version, |layers| {
-                        Ok(CylinderTank::new(0.5, 0.6, 0.5, Roof::Flat)
-                            .with_layers(layers)
-                            .build(case.dx)?)
+                        Ok(tank.clone().with_layers(layers).build(case.dx)?)
                     })
                 }
-                BenchTank::RealCylinder3 => {
-                    run_case::<3>(case, backend, config, &pools, &version, |layers| {
-                        Ok(
-                            CylinderTank::new(12.0, 16.0, 13.0, Roof::Cone { apex_height: 1.5 })
-                                .with_layers(layers)
-                                .build(case.dx)?,
-                        )
-                    })
-                }
+                (None, None) => bail!("bench case {}: no tank", case.name),
             }
             .with_context(|| format!("bench case {} ({})", case.name, backend_name(backend)))?;
             rows.extend(new_rows);
