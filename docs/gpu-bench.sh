@@ -12,11 +12,11 @@
 #            `cargo build --release -p slosh-cli` and carried to the GPU machine)
 #   CASES    bench cases (default 2d-80k,3d-500k,3d-1m,3d-real: the 2D 80k and the 3D 500k and
 #            1M particle cylinders, and the real-scale tank at 24 particles per radius)
-#   LIMIT_S  time limit of each bench command in seconds (default 200)
+#   LIMIT_S  time limit of each bench command in seconds (default 120)
 #
-# Writes OUT/machine.txt (GPU, driver, CPU, cores, slosh version), OUT/gpu_f32/bench_gpu.csv and
-# OUT/gpu/bench_gpu.csv (particle-steps/s, wall time per simulated second, device, kernel
-# shares) and OUT/cpu/bench.csv (the modern preset on the CPU, all cores), and a log
+# Writes OUT/machine.txt (GPU, driver, CPU, cores, slosh version), OUT/gpu_f32_CASE/bench_gpu.csv
+# and OUT/gpu_CASE/bench_gpu.csv for each case (particle-steps/s, wall time per simulated
+# second, device, kernel shares) and OUT/cpu/bench.csv (the modern preset on the CPU, all cores), and a log
 # of each command. A command that fails or runs out of time is reported and the others still
 # run; the exit status is non-zero if any failed.
 #
@@ -31,7 +31,7 @@ cd "$repo"
 SLOSH="${SLOSH:-target/release/slosh}"
 OUT="${1:-out/gpu-bench}"
 CASES="${CASES:-2d-80k,3d-500k,3d-1m,3d-real}"
-LIMIT_S="${LIMIT_S:-200}"
+LIMIT_S="${LIMIT_S:-120}"
 if [ ! -x "$SLOSH" ]; then
     echo "error: no slosh binary at $SLOSH: build it with \`cargo build --release -p slosh-cli\` (or set SLOSH)" >&2
     exit 1
@@ -66,7 +66,11 @@ step() {
     fi
 }
 
-step gpu_f32 "$SLOSH" bench --backend gpu_f32 --case "$CASES" --out "$OUT/gpu_f32"
-step gpu "$SLOSH" bench --backend gpu --case "$CASES" --out "$OUT/gpu"
+# One command per case and precision: a case that runs out of its time keeps the others'
+# results (bench_gpu.csv is written when its command ends).
+for case in ${CASES//,/ }; do
+    step "gpu_f32_$case" "$SLOSH" bench --backend gpu_f32 --case "$case" --out "$OUT/gpu_f32_$case"
+    step "gpu_$case" "$SLOSH" bench --backend gpu --case "$case" --out "$OUT/gpu_$case"
+done
 step cpu "$SLOSH" bench --scheme modern --case "$CASES" --threads "$(nproc)" --out "$OUT/cpu"
 exit "$failed"

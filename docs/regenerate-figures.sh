@@ -30,9 +30,11 @@ fi
 cd "$repo"
 
 # copy SRC DEST: one figure into docs/, said on the terminal.
+copy_failed=0
 copy() {
     if [ ! -f "$1" ]; then
         echo "error: $1 was not written (see the run's output above)" >&2
+        copy_failed=1
         return 1
     fi
     cp "$1" "$2"
@@ -274,7 +276,9 @@ fi
 failed=0
 for job in "${jobs[@]}"; do
     echo "== $job (runs in $OUT)"
-    if ! "job_$job"; then
+    copy_failed=0
+    # A job's status is its last command's: a figure it failed to copy earlier counts too.
+    if ! "job_$job" || [ "$copy_failed" = 1 ]; then
         echo "warning: $job did not complete" >&2
         failed=1
     fi

@@ -126,21 +126,30 @@ pub(crate) fn rewrite_series(
     }
     std::fs::create_dir_all(&staging)?;
     let staged = staging.join(path.file_name().unwrap_or("series.csv".as_ref()));
-    let mut writer = SeriesWriter::create(&staged, names)?;
-    let rows = history.first().map_or(0, Vec::len);
-    let mut row = Vec::with_capacity(history.len());
-    for r in 0..rows {
-        row.clear();
-        row.extend(history.iter().map(|c| c[r]));
-        writer.write_row(&row)?;
+    let staged_units = slosh_io::units_path_for(&staged);
+    let written = (|| -> Result<()> {
+        let mut writer = SeriesWriter::create(&staged, names)?;
+        let rows = history.first().map_or(0, Vec::len);
+        let mut row = Vec::with_capacity(history.len());
+        for r in 0..rows {
+            row.clear();
+            row.extend(history.iter().map(|c| c[r]));
+            writer.write_row(&row)?;
+        }
+        writer.flush()?;
+        drop(writer);
+        std::fs::rename(&staged_units, slosh_io::units_path_for(path))?;
+        std::fs::rename(&staged, path)?;
+        Ok(())
+    })();
+    if written.is_err() {
+        // A full disk: the staged copies (slosh's own two files) must not hold its space;
+        // the streamed series.csv stays as it was.
+        let _ = std::fs::remove_file(&staged);
+        let _ = std::fs::remove_file(&staged_units);
     }
-    writer.flush()?;
-    let staged_units = writer.units_path().to_path_buf();
-    drop(writer);
-    std::fs::rename(&staged_units, slosh_io::units_path_for(path))?;
-    std::fs::rename(&staged, path)?;
-    std::fs::remove_dir(&staging)?;
-    Ok(())
+    let _ = std::fs::remove_dir(&staging);
+    written
 }
 
 /// Appends the particles of `sim` at time `t` (s) to the frame series: positions, velocity,

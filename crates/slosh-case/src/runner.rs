@@ -264,6 +264,19 @@ fn theory_numbers(tank: &TankSpec, gravity: f64) -> TheoryNumbers {
     }
 }
 
+/// Whether `error` (or an error it wraps) is a file operation that failed: an output of the
+/// run that could not be written, as opposed to a refused resume or a bad state.
+fn is_output_failure(error: &(dyn std::error::Error + 'static)) -> bool {
+    let mut next = Some(error);
+    while let Some(e) = next {
+        if e.is::<std::io::Error>() || e.is::<slosh_io::IoError>() {
+            return true;
+        }
+        next = e.source();
+    }
+    false
+}
+
 /// The run's failure as the front ends report it: the solver's or the script's own error,
 /// or [`Interrupted`] for a signal.
 fn failure_of(status: RunStatus) -> Option<anyhow::Error> {
@@ -469,6 +482,9 @@ fn run_built<const D: usize>(
         resume_state,
     )
     .map_err(|e| {
+        if !is_output_failure(e.as_ref()) {
+            return anyhow::anyhow!(e);
+        }
         // An output that could not be written (a full disk): what is left and how to go on.
         let kept = match files
             .checkpoints

@@ -145,8 +145,10 @@ pub struct AssessRequest {
 
 /// Checks the case and the suite (every row is loaded as the run will load it, so a missing
 /// record or a wrong value stops here, before anything runs), writes the manifest into the
-/// assessment folder and returns it with that folder.
-pub fn prepare(request: &AssessRequest) -> Result<(Manifest, PathBuf)> {
+/// assessment folder and returns it with that folder and the folder's hold
+/// ([`crate::sweep::hold_folder`]; keep it while the folder is in use, `None` on a file
+/// system without locks).
+pub fn prepare(request: &AssessRequest) -> Result<(Manifest, PathBuf, Option<std::fs::File>)> {
     let absolute = |p: &Path| -> Result<PathBuf> {
         std::path::absolute(p).with_context(|| format!("cannot resolve {}", p.display()))
     };
@@ -213,6 +215,9 @@ pub fn prepare(request: &AssessRequest) -> Result<(Manifest, PathBuf)> {
     };
     std::fs::create_dir_all(out_dir.join("runs"))
         .with_context(|| format!("cannot create the assessment folder {}", out_dir.display()))?;
+    // Held from before the manifest is written until the caller is done with the folder: a
+    // second assessment into it is refused before it replaces the running one's manifest.
+    let held = crate::sweep::hold_folder(&out_dir, "assessment")?;
     let manifest = Manifest {
         version: env!("CARGO_PKG_VERSION").to_string(),
         case: absolute(&request.case)?,
@@ -232,7 +237,7 @@ pub fn prepare(request: &AssessRequest) -> Result<(Manifest, PathBuf)> {
             .collect(),
     };
     manifest.write(&out_dir)?;
-    Ok((manifest, out_dir))
+    Ok((manifest, out_dir, held))
 }
 
 /// The case options of the `--set` values alone.
@@ -245,7 +250,8 @@ fn set_only(request: &AssessRequest) -> CaseOptions {
 }
 
 /// Runs the motions of `manifest` not completed before, `jobs` at once (0: one per core),
-/// then writes the report. Returns the report's outcome.
+/// then writes the report. Returns the report's outcome. The caller holds the folder (the
+/// hold [`prepare`] returns).
 pub fn run_local(
     exe: &Path,
     manifest: &Manifest,
@@ -255,7 +261,6 @@ pub fn run_local(
 ) -> Result<report::Collected> {
     let declared = manifest.declared()?;
     let plans = manifest.plans(out_dir, &declared);
-    let _held = crate::sweep::hold_folder(out_dir, "assessment")?;
     let results = crate::sweep::run_planned(
         exe,
         &manifest.case,

@@ -233,3 +233,48 @@ fn a_second_sweep_into_a_busy_folder_is_refused_and_touches_nothing() {
         String::from_utf8_lossy(&o.stderr)
     );
 }
+
+/// A second assessment into a folder an assessment is running in is refused before it writes
+/// anything there: the running one's manifest (`assess.ron`) is not replaced.
+#[test]
+fn a_second_assessment_into_a_busy_folder_keeps_the_manifest() {
+    let dir = temp("two-assessments");
+    let case = long_case(&dir);
+    let first_suite = dir.join("first.csv");
+    std::fs::write(&first_suite, "name,amplitude\nfirst_motion,0.004\n").unwrap();
+    let second_suite = dir.join("second.csv");
+    std::fs::write(&second_suite, "name,amplitude\nsecond_motion,0.006\n").unwrap();
+    let out = dir.join("assessment");
+    let first = Command::new(env!("CARGO_BIN_EXE_slosh"))
+        .args(["assess", case.to_str().unwrap(), "--motions"])
+        .arg(&first_suite)
+        .args(["--jobs", "1", "--quiet", "--out"])
+        .arg(&out)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    wait_for_lines(&out.join("runs/first_motion/series.csv"), 20);
+    let second = Command::new(env!("CARGO_BIN_EXE_slosh"))
+        .args(["assess", case.to_str().unwrap(), "--motions"])
+        .arg(&second_suite)
+        .args(["--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&second.stderr);
+    assert!(!second.status.success(), "{err}");
+    assert!(err.contains("in use by another slosh assessment"), "{err}");
+    let manifest = std::fs::read_to_string(out.join("assess.ron")).unwrap();
+    assert!(
+        manifest.contains("first_motion") && !manifest.contains("second_motion"),
+        "{manifest}"
+    );
+    signal(&first, libc::SIGINT);
+    let o = first.wait_with_output().unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(130),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}

@@ -53,6 +53,8 @@ impl Write for RowFile {
                 self.written += n as u64;
                 Ok(n)
             }
+            // An interrupted call wrote nothing and is tried again by `write_all`.
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => Err(e),
             Err(e) => {
                 self.failed.set(true);
                 Err(e)

@@ -135,6 +135,11 @@ fn raised_roof(ctx: &Context, done: &[Level], g: &mut GroupResult) {
         done.iter()
             .find(|l| (l.dx - 0.5 * RAISED_ROOF_DX).abs() < 1e-12),
     ) else {
+        g.checks.push(failed_run(
+            group,
+            "raised roof",
+            "not run: the dx = 0.01 m or 0.005 m level above did not finish",
+        ));
         return;
     };
     // H′/H = 0.2 of H = 0.5 m, plus one spacing.
@@ -254,11 +259,11 @@ pub fn study(ctx: &Context) -> GroupResult {
             )),
         }
     }
-    if done.len() != levels.len() || done.len() < 2 {
-        return g;
-    }
     if !ctx.quick {
         raised_roof(ctx, &done, &mut g);
+    }
+    if done.len() != levels.len() || done.len() < 2 {
+        return g;
     }
     // The same episodes on the finest two levels: each impact of the finer that starts before
     // the last window's end has one on the coarser within T₁/10.

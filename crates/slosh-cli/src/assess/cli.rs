@@ -101,7 +101,9 @@ pub fn cli_assess(args: AssessArgs, overrides: Vec<(String, ParamValue)>) -> Res
             crate::slurm::check_plain("--out", &out.display().to_string())?;
         }
     }
-    let (manifest, out_dir) = prepare(&AssessRequest {
+    // `_held`: the assessment folder, held (against a second assessment into it) until this
+    // command is done with it.
+    let (manifest, out_dir, _held) = prepare(&AssessRequest {
         case,
         motions,
         out: args.out.clone(),
