@@ -35,7 +35,8 @@ fn prose_lines(text: &str) -> Vec<&str> {
     let mut in_fence = false;
     let mut lines = Vec::new();
     for line in text.lines() {
-        if line.trim_start().starts_with("```") {
+        let trimmed = line.trim_start();
+        if trimmed.starts_with("```") || trimmed.starts_with("~~~") {
             in_fence = !in_fence;
             continue;
         }
@@ -72,8 +73,17 @@ fn anchors(text: &str) -> BTreeSet<String> {
         if !title.starts_with(' ') {
             continue;
         }
-        // Inline code and emphasis marks are not part of the anchor's words.
-        let base = slug(&title.replace(['`', '*'], ""));
+        // An explicit `{#id}` is the anchor; otherwise the heading's words: a closing run of
+        // `#`, link targets, inline code and emphasis marks are not part of them.
+        let title = title.trim().trim_end_matches('#').trim_end();
+        if let Some(id) = title
+            .rsplit_once("{#")
+            .and_then(|(_, rest)| rest.strip_suffix('}'))
+        {
+            seen.insert(id.to_string());
+            continue;
+        }
+        let base = slug(&link_text(title).replace(['`', '*'], ""));
         let mut anchor = base.clone();
         let mut k = 0;
         while seen.contains(&anchor) {
@@ -83,6 +93,21 @@ fn anchors(text: &str) -> BTreeSet<String> {
         seen.insert(anchor);
     }
     seen
+}
+
+/// `text` with each inline link `[words](target)` replaced by its words.
+fn link_text(text: &str) -> String {
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(i) = rest.find("](") {
+        let Some(end) = rest[i + 2..].find(')') else {
+            break;
+        };
+        out.push_str(&rest[..i].replace('[', ""));
+        rest = &rest[i + 2 + end + 1..];
+    }
+    out.push_str(&rest.replace(['[', ']'], ""));
+    out
 }
 
 /// The targets of the inline links and images in `text` (`[..](target)`), code excluded.
@@ -108,6 +133,25 @@ fn link_targets(text: &str) -> Vec<String> {
         }
     }
     targets
+}
+
+#[test]
+fn anchors_follow_the_heading_rules_of_mdbook_and_github() {
+    let text = "# Getting started\n## The `slosh run` command\n## See [formats](formats.md)\n\
+                ## Closing hashes ##\n## Custom {#my-id}\n## Getting started\n\
+                ~~~\n# not a heading\n~~~\n";
+    let a = anchors(text);
+    for expected in [
+        "getting-started",
+        "the-slosh-run-command",
+        "see-formats",
+        "closing-hashes",
+        "my-id",
+        "getting-started-1",
+    ] {
+        assert!(a.contains(expected), "{expected} not in {a:?}");
+    }
+    assert!(!a.contains("not-a-heading"), "{a:?}");
 }
 
 #[test]

@@ -231,9 +231,9 @@ fn lock_folder(dir: &Path, lock: &Path) -> Result<Option<std::fs::File>> {
             Err(busy(lock))
         }
         Err(std::fs::TryLockError::WouldBlock) => bail!(
-            "{} is being written by another slosh run (its lock file {LOCK_FILE} was removed, \
-             but the run still holds the folder); wait for it to end, stop it, or choose \
-             another --out folder",
+            "{} is held by another slosh command: a run whose lock file {LOCK_FILE} was \
+             removed, or a sweep or an assessment using this folder; wait for it to end, stop \
+             it, or choose another --out folder",
             dir.display()
         ),
         Err(std::fs::TryLockError::Error(_)) => Ok(None),

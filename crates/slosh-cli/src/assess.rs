@@ -217,7 +217,7 @@ pub fn prepare(request: &AssessRequest) -> Result<(Manifest, PathBuf, Option<std
         .with_context(|| format!("cannot create the assessment folder {}", out_dir.display()))?;
     // Held from before the manifest is written until the caller is done with the folder: a
     // second assessment into it is refused before it replaces the running one's manifest.
-    let held = crate::sweep::hold_folder(&out_dir, "assessment")?;
+    let held = crate::sweep::hold_folder(&out_dir, "an assessment")?;
     let manifest = Manifest {
         version: env!("CARGO_PKG_VERSION").to_string(),
         case: absolute(&request.case)?,

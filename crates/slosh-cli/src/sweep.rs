@@ -809,7 +809,7 @@ pub fn cli_sweep_as(
     let csv = out_dir.join("sweep.csv");
     // Held while this sweep runs or collects its cases in `out_dir`.
     let _held = match mode {
-        SweepMode::Run | SweepMode::Collect => hold_folder(&out_dir, "sweep")?,
+        SweepMode::Run | SweepMode::Collect => hold_folder(&out_dir, "a sweep")?,
         _ => None,
     };
     let results = match mode {
@@ -1169,7 +1169,8 @@ fn resumable(p: &Planned) -> bool {
             })
 }
 
-/// Holds the folder `dir` of a sweep (or an assessment, `what`) run on this machine: the
+/// Holds the folder `dir` of a sweep (or an assessment: `what`, "a sweep", "an assessment")
+/// run on this machine: the
 /// system's advisory lock on the open folder, released when the process ends in any way. A
 /// second sweep into the same folder is refused before it touches a case (its cases would
 /// share folders, one's outputs replacing the other's). `None` on a file system without locks.
@@ -1182,8 +1183,8 @@ pub(crate) fn hold_folder(dir: &Path, what: &str) -> Result<Option<std::fs::File
     match folder.try_lock() {
         Ok(()) => Ok(Some(folder)),
         Err(std::fs::TryLockError::WouldBlock) => bail!(
-            "{} is in use by another slosh {what} (it holds the folder); wait for it to end, stop \
-             it, or choose another --out folder",
+            "{} is in use by another slosh command ({what}, or a run writing into this \
+             folder, holds it); wait for it to end, stop it, or choose another --out folder",
             dir.display()
         ),
         Err(std::fs::TryLockError::Error(_)) => Ok(None),

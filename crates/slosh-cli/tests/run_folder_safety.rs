@@ -158,7 +158,11 @@ fn a_lock_removed_by_hand_does_not_let_a_second_run_in() {
     let _ = first.kill();
     let _ = first.wait();
     assert!(!o.status.success(), "{}", text(&o));
-    assert!(text(&o).contains("another slosh run"), "{}", text(&o));
+    assert!(
+        text(&o).contains("held by another slosh command: a run whose lock file"),
+        "{}",
+        text(&o)
+    );
 }
 
 /// `--out` with a newline (which would split the batch script's `#SBATCH --output=` line and

@@ -174,7 +174,10 @@ fn a_second_sweep_into_a_busy_folder_is_refused_and_touches_nothing() {
         .unwrap();
     let err = String::from_utf8_lossy(&second.stderr);
     assert!(!second.status.success(), "{err}");
-    assert!(err.contains("in use by another slosh sweep"), "{err}");
+    assert!(
+        err.contains("in use by another slosh command (a sweep"),
+        "{err}"
+    );
     signal(&first, libc::SIGINT);
     let o = first.wait_with_output().unwrap();
     assert_eq!(
@@ -263,7 +266,10 @@ fn a_second_assessment_into_a_busy_folder_keeps_the_manifest() {
         .unwrap();
     let err = String::from_utf8_lossy(&second.stderr);
     assert!(!second.status.success(), "{err}");
-    assert!(err.contains("in use by another slosh assessment"), "{err}");
+    assert!(
+        err.contains("in use by another slosh command (an assessment"),
+        "{err}"
+    );
     let manifest = std::fs::read_to_string(out.join("assess.ron")).unwrap();
     assert!(
         manifest.contains("first_motion") && !manifest.contains("second_motion"),
