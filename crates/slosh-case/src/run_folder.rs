@@ -217,26 +217,44 @@ fn take_lock(lock: &Path) -> Result<std::fs::File> {
     )
 }
 
-/// Locks the folder `dir` itself for this process (`flock` on the open folder), the second
-/// lock beside the lock file `lock`: a run that finds the file gone (removed by hand) still
-/// finds the folder held, and is refused before it writes anything. `None` where the file
-/// system cannot lock a folder.
-fn lock_folder(dir: &Path, lock: &Path) -> Result<Option<std::fs::File>> {
+/// The system's exclusive advisory lock (`flock`) on the open folder `dir`, the lock every
+/// slosh process that writes into a folder holds on it (runs, sweeps, assessments).
+pub enum FolderLock {
+    /// Taken: held until the file is dropped (or the process ends in any way).
+    Held(std::fs::File),
+    /// Another process holds it.
+    Busy,
+    /// The folder cannot be opened or its file system cannot lock a folder.
+    Unsupported,
+}
+
+/// Tries to take [`FolderLock`] on `dir` without waiting.
+pub fn try_lock_folder(dir: &Path) -> FolderLock {
     let Ok(folder) = std::fs::File::open(dir) else {
-        return Ok(None);
+        return FolderLock::Unsupported;
     };
     match folder.try_lock() {
-        Ok(()) => Ok(Some(folder)),
-        Err(std::fs::TryLockError::WouldBlock) if std::fs::symlink_metadata(lock).is_ok() => {
-            Err(busy(lock))
-        }
-        Err(std::fs::TryLockError::WouldBlock) => bail!(
+        Ok(()) => FolderLock::Held(folder),
+        Err(std::fs::TryLockError::WouldBlock) => FolderLock::Busy,
+        Err(std::fs::TryLockError::Error(_)) => FolderLock::Unsupported,
+    }
+}
+
+/// Locks the folder `dir` itself for this process ([`try_lock_folder`]), the second lock
+/// beside the lock file `lock`: a run that finds the file gone (removed by hand) still finds
+/// the folder held, and is refused before it writes anything. `None` where the file system
+/// cannot lock a folder.
+fn lock_folder(dir: &Path, lock: &Path) -> Result<Option<std::fs::File>> {
+    match try_lock_folder(dir) {
+        FolderLock::Held(folder) => Ok(Some(folder)),
+        FolderLock::Busy if std::fs::symlink_metadata(lock).is_ok() => Err(busy(lock)),
+        FolderLock::Busy => bail!(
             "{} is held by another slosh command: a run whose lock file {LOCK_FILE} was \
              removed, or a sweep or an assessment using this folder; wait for it to end, stop \
              it, or choose another --out folder",
             dir.display()
         ),
-        Err(std::fs::TryLockError::Error(_)) => Ok(None),
+        FolderLock::Unsupported => Ok(None),
     }
 }
 

@@ -1177,25 +1177,26 @@ fn resumable(p: &Planned) -> bool {
 /// A Slurm job's array tasks share the folder and do not take it; each case's own folder lock
 /// keeps them apart.
 pub(crate) fn hold_folder(dir: &Path, what: &str) -> Result<Option<std::fs::File>> {
-    let Ok(folder) = std::fs::File::open(dir) else {
-        return Ok(None);
-    };
-    match folder.try_lock() {
-        Ok(()) => Ok(Some(folder)),
-        Err(std::fs::TryLockError::WouldBlock) => bail!(
+    use slosh_case::run_folder::{try_lock_folder, FolderLock};
+    match try_lock_folder(dir) {
+        FolderLock::Held(folder) => Ok(Some(folder)),
+        FolderLock::Busy => bail!(
             "{} is in use by another slosh command ({what}, or a run writing into this \
              folder, holds it); wait for it to end, stop it, or choose another --out folder",
             dir.display()
         ),
-        Err(std::fs::TryLockError::Error(_)) => Ok(None),
+        FolderLock::Unsupported => Ok(None),
     }
 }
 
 /// Whether a live slosh run holds the case folder `dir` (its lock on the open folder): its
-/// `run.log` and `summary.ron` are not this sweep's to replace.
+/// `run.log` and `summary.ron` are not this sweep's to replace. A lock taken to look is
+/// released at once.
 fn held_by_a_run(dir: &Path) -> bool {
-    std::fs::File::open(dir)
-        .is_ok_and(|f| matches!(f.try_lock(), Err(std::fs::TryLockError::WouldBlock)))
+    matches!(
+        slosh_case::run_folder::try_lock_folder(dir),
+        slosh_case::run_folder::FolderLock::Busy
+    )
 }
 
 /// [`run_one`]'s child process: `slosh resume` with `resumable`, else `slosh run`.
