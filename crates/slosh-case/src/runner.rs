@@ -344,7 +344,27 @@ fn run_built<const D: usize>(
             sim.sound_speed()
         );
     }
-    if case.excitation.has_ground_accel() && case.run.duration <= case.run.settle {
+    if case.excitation.turns() {
+        if let Some(device) = sim.device_description() {
+            anyhow::bail!(
+                "{}: the script turns the tank (fn ground_rotation) and the run asks for the \
+                 device backend ({device}); a turning tank runs on the CPU backend only: run \
+                 it with --backend cpu",
+                case.name
+            );
+        }
+        // The default pivot: the centre of the tank's base.
+        let (low, high) = sim.interior_bounds();
+        let mut base = [0.0; 3];
+        for (k, b) in base.iter_mut().enumerate().take(D - 1) {
+            *b = 0.5 * (low[k] + high[k]);
+        }
+        base[2] = low[D - 1];
+        case.excitation.set_default_pivot(base);
+    }
+    if (case.excitation.has_ground_accel() || case.excitation.turns())
+        && case.run.duration <= case.run.settle
+    {
         // The excitation starts after the settling time: this run never shakes the tank.
         let w = format!(
             "the run ends at {} s, before the excitation starts (settle = {} s): the tank is \
@@ -448,10 +468,12 @@ fn run_built<const D: usize>(
             damping_ratio: case.run.roof_damping,
             design_periods: case.run.roof_periods.clone(),
         },
+        turns: case.excitation.turns(),
     };
     // Roof loads: the clearance against the particle spacing (the roof's reach through the
     // kernel shortens the clearance the roof load sees).
-    if sim.part_names().iter().any(|n| n == "roof") {
+    let roof_part = sim.part_names().iter().position(|n| n == "roof");
+    if roof_part.is_some_and(|r| sim.walls().part.iter().any(|&p| p as usize == r)) {
         if let Some(w) = slosh_run::roof_load::clearance_resolution_warning(
             plan.roof_tank.freeboard,
             sim.spacing(),

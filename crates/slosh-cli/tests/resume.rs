@@ -199,6 +199,25 @@ fn modern_3d_record_resumes_bit_for_bit() {
     );
 }
 
+/// A tank the ground turns as well as shakes (a record and its foundation's rocking): the
+/// rotation is a function of time, so a resumed run takes the same steps.
+#[test]
+fn a_rocking_tank_resumes_bit_for_bit() {
+    interrupted_run_resumes_to_the_same_files(
+        "rocking-2d",
+        &[
+            "run",
+            "scripts/tank_rocking_2d.rhai",
+            "--set",
+            "dx=0.5",
+            "--set",
+            "duration=12",
+        ],
+        200,
+        &["series.csv", "series_units.csv"],
+    );
+}
+
 #[test]
 fn resume_refuses_what_it_cannot_continue() {
     let dir = temp("refusals");

@@ -30,6 +30,7 @@ macro_rules! with_search {
 
 pub mod device;
 pub mod error;
+pub mod frame;
 pub mod gauge;
 pub mod kernel;
 pub mod loads;
@@ -44,6 +45,7 @@ mod terms;
 
 pub use device::{device_unsupported, DeviceSetup, DeviceStepReport, StepDevice};
 pub use error::SimError;
+pub use frame::TankRotation;
 pub use kernel::{Kernel, KernelKind};
 pub use loads::{LoadEvaluator, LoadPeaks, LoadState, PartLoads};
 pub use neighbours::{CellGrid, KdTreeSearch, NeighbourBackend, NeighbourSearch};

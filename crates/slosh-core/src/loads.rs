@@ -223,7 +223,8 @@ impl<const D: usize> LoadEvaluator<D> {
     }
 
     /// Evaluates the pressure at every load point for the current state (step `step`, time
-    /// `time`), pushes it into the window and updates the centred loads and the peaks.
+    /// `time`, the body force `body` of the step), pushes it into the window and updates the
+    /// centred loads and the peaks.
     #[allow(clippy::too_many_arguments)]
     pub fn record_step<S: NeighbourSearch<D>>(
         &mut self,
@@ -233,7 +234,7 @@ impl<const D: usize> LoadEvaluator<D> {
         kernel: &Kernel,
         mass: f64,
         params: &SphParams,
-        body_force: Vector<D>,
+        body: &crate::frame::BodyForce<D>,
         step: u64,
         time: f64,
         spacing: f64,
@@ -262,7 +263,9 @@ impl<const D: usize> LoadEvaluator<D> {
                         if pw == 0.0 {
                             0.0
                         } else {
-                            pw - walls.density[w] * body_force.dot(&normal[k]) * (0.5 * spacing)
+                            pw - walls.density[w]
+                                * body.at(&walls.position[w]).dot(&normal[k])
+                                * (0.5 * spacing)
                         }
                     }
                     WallPressureMethod::WallParticle => walls.pressure[w],
@@ -276,6 +279,7 @@ impl<const D: usize> LoadEvaluator<D> {
                     }
                     WallPressureMethod::KernelExtrapolation => {
                         let face = walls.position[w] - normal[k] * (0.5 * spacing);
+                        let body_force = body.at(&face);
                         let mut weighted = 0.0;
                         let mut weight = 0.0;
                         search.for_each_fluid_candidate(&face, |j| {

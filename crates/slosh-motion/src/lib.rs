@@ -7,6 +7,8 @@
 //!   [`Record::processing_log`].
 //! * [`Sine`], [`Excitation`], [`Motion`]: analytic and recorded excitations, up to three
 //!   components, evaluated at any time.
+//! * [`RotationRecord`]: a recorded rotation of the tank (angle, rate, angular acceleration)
+//!   read by [`read_rotation`], interpolated twice continuously differentiable.
 //! * [`response_spectrum`]: pseudo-acceleration spectrum by the exact piecewise-linear
 //!   (Nigam–Jennings) solution of the damped oscillator.
 //!
@@ -31,6 +33,7 @@ pub mod filter;
 pub mod motion;
 pub mod readers;
 pub mod record;
+pub mod rotation;
 pub mod spectrum;
 
 pub use error::{MotionError, Result};
@@ -40,7 +43,8 @@ pub use readers::{
     sha256_hex, PlainTextOptions,
 };
 pub use record::{AccelUnit, Record, RecordFormat, RecordMeta, GRAVITY_M_S2};
+pub use rotation::{parse_rotation, read_rotation, AngleUnit, RotationRecord};
 pub use spectrum::{
     default_periods_s, log_spaced_periods, response_spectrum, sdof_displacement_history,
-    ResponseSpectrum, DEFAULT_DAMPING_RATIO,
+    sdof_history, ResponseSpectrum, DEFAULT_DAMPING_RATIO,
 };

@@ -478,15 +478,31 @@ pub fn parse_plain_text(text: &str, source: &str, options: &PlainTextOptions) ->
     parse_plain_text_bytes(text.as_bytes(), source, options)
 }
 
-fn parse_plain_text_bytes(
-    bytes: &[u8],
+/// The numbers of a plain-text table: comment lines (`#`) and one header line naming the
+/// columns kept as its header, every data line with the same number of columns.
+pub(crate) struct NumericTable {
+    /// Comment and header lines.
+    pub header_lines: Vec<String>,
+    /// (1-based line, values) of each data line.
+    pub rows: Vec<(usize, Vec<f64>)>,
+    /// Columns of every data line.
+    pub columns: usize,
+    /// The last line read (1-based).
+    pub last_line: usize,
+}
+
+/// Reads the numbers of a plain-text table of at most `max_columns` columns (comma, semicolon
+/// or white space between values); `layout` says what the columns are, for the error of a
+/// line with more.
+pub(crate) fn numeric_table(
+    text: &str,
     source: &str,
-    options: &PlainTextOptions,
-) -> Result<Record> {
-    let text = String::from_utf8_lossy(bytes);
+    max_columns: usize,
+    layout: &str,
+) -> Result<NumericTable> {
     // A byte-order mark (spreadsheets write one before UTF-8 CSV) is not part of the first
     // value: left in, it would make the first data line read as a header.
-    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut header_lines: Vec<String> = Vec::new();
     let mut rows: Vec<(usize, Vec<f64>)> = Vec::new();
     let mut columns: Option<usize> = None;
@@ -529,14 +545,11 @@ fn parse_plain_text_bytes(
         let row: Vec<f64> = parsed.into_iter().flatten().collect();
         match columns {
             None => {
-                if row.len() > 2 {
+                if row.len() > max_columns {
                     return Err(MotionError::BadLayout {
                         path: source.into(),
                         line: line_no,
-                        message: format!(
-                            "found {} columns; a plain-text record has 2 columns (time s, acceleration) or 1 (acceleration, with dt given)",
-                            row.len()
-                        ),
+                        message: format!("found {} columns; {layout}", row.len()),
                     });
                 }
                 columns = Some(row.len());
@@ -562,6 +575,32 @@ fn parse_plain_text_bytes(
             message: "no data lines found (only comments, a header or empty lines)".into(),
         });
     };
+    Ok(NumericTable {
+        header_lines,
+        rows,
+        columns,
+        last_line,
+    })
+}
+
+fn parse_plain_text_bytes(
+    bytes: &[u8],
+    source: &str,
+    options: &PlainTextOptions,
+) -> Result<Record> {
+    let text = String::from_utf8_lossy(bytes);
+    let NumericTable {
+        header_lines,
+        rows,
+        columns,
+        last_line,
+    } = numeric_table(
+        &text,
+        source,
+        2,
+        "a plain-text record has 2 columns (time s, acceleration) or 1 (acceleration, with dt \
+         given)",
+    )?;
     let factor = options.units.to_m_s2();
     let mut log = Vec::new();
     let (dt_s, accel, original_dt_s) = if columns == 1 {

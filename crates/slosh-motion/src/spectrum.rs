@@ -144,16 +144,31 @@ pub fn sdof_displacement_history(
     period_s: f64,
     damping_ratio: f64,
 ) -> Result<Vec<f64>> {
+    Ok(
+        sdof_history(ground_accel_m_s2, dt_s, period_s, damping_ratio)?
+            .into_iter()
+            .map(|(u, _)| u)
+            .collect(),
+    )
+}
+
+/// [`sdof_displacement_history`] with the relative velocity: (u (m), u̇ (m/s)) per sample.
+pub fn sdof_history(
+    ground_accel_m_s2: &[f64],
+    dt_s: f64,
+    period_s: f64,
+    damping_ratio: f64,
+) -> Result<Vec<(f64, f64)>> {
     check_inputs(dt_s, period_s, damping_ratio)?;
     let solver = StepSolver::new(2.0 * PI / period_s, damping_ratio, dt_s);
     let mut out = Vec::with_capacity(ground_accel_m_s2.len());
     let (mut u, mut v) = (0.0, 0.0);
     if !ground_accel_m_s2.is_empty() {
-        out.push(0.0);
+        out.push((0.0, 0.0));
     }
     for w in ground_accel_m_s2.windows(2) {
         (u, v) = solver.step(u, v, -w[0], -w[1]);
-        out.push(u);
+        out.push((u, v));
     }
     Ok(out)
 }

@@ -1,6 +1,7 @@
 //! Ground motions: the ground acceleration a_g(t) that acts on the liquid as the body force
 //! −a_g(t) in the tank frame (`docs/ground-motion.md`, *Sign conventions*).
 
+use slosh_core::TankRotation;
 use std::error::Error;
 
 /// The error of a ground motion that could not give its acceleration (a script function that
@@ -12,8 +13,15 @@ pub type MotionError = Box<dyn Error + Send + Sync>;
 /// The components are `[x, y, vertical]` (m/s²): the vertical is the last one, as everywhere
 /// in slosh; a 2D case uses `x` and the vertical.
 pub trait GroundMotion {
-    /// Ground acceleration `[a_x, a_y, a_z]` (m/s²) at time `t` (s).
+    /// Ground acceleration `[a_x, a_y, a_z]` (m/s²) at time `t` (s), in the world frame.
     fn ground_accel(&mut self, t: f64) -> Result<[f64; 3], MotionError>;
+
+    /// The tank's rotation about its pivot at time `t` (s) (angle, rate and angular
+    /// acceleration: `slosh_core::frame`); `None` when the ground only translates the tank,
+    /// the default.
+    fn ground_rotation(&mut self, _t: f64) -> Result<Option<TankRotation>, MotionError> {
+        Ok(None)
+    }
 }
 
 /// Any closure `t → [a_x, a_y, a_z]` is a ground motion.
@@ -59,6 +67,20 @@ impl<M: GroundMotion + ?Sized> GroundMotion for AfterSettling<'_, M> {
             self.motion.ground_accel(t - self.settle)
         } else {
             Ok([0.0; 3])
+        }
+    }
+
+    /// The motion's rotation after settling; before it, the rotation of the excitation's start
+    /// held still (its angle, no rate).
+    fn ground_rotation(&mut self, t: f64) -> Result<Option<TankRotation>, MotionError> {
+        if t >= self.settle - TIME_EPS {
+            self.motion.ground_rotation(t - self.settle)
+        } else {
+            Ok(self.motion.ground_rotation(0.0)?.map(|r| TankRotation {
+                rate: 0.0,
+                acceleration: 0.0,
+                ..r
+            }))
         }
     }
 }

@@ -10,7 +10,7 @@ use crate::roof::{
 };
 use crate::roof_load::{RoofLoadMonitor, RoofLoadPlan, RoofLoadResult};
 use crate::stepping::{advance, HookError, StepError, StepHooks, StopRequest, Until};
-use slosh_core::{LoadPeaks, PartLoads, SimState, Simulation, StepStats};
+use slosh_core::{LoadPeaks, PartLoads, SimState, Simulation, StepStats, TankRotation};
 use std::collections::VecDeque;
 use std::time::Instant;
 
@@ -45,6 +45,9 @@ pub struct RunPlan {
     pub wall_gauges: Option<(Vec<f64>, Vec<f64>)>,
     /// Roof sensors and the roof oscillator of the roof load spectrum.
     pub roof_load: RoofLoadPlan,
+    /// The ground turns the tank as well as translating it: the series gains the column
+    /// `tank_angle` (rad) after the ground acceleration.
+    pub turns: bool,
 }
 
 /// Receives what a case run produces, as it produces it: once per output row, frame or step,
@@ -197,6 +200,7 @@ fn columns(
     extra_parts: &[String],
     roof_load: &RoofLoadPlan,
     has_roof: bool,
+    turns: bool,
 ) -> (Vec<(String, String)>, usize) {
     let force = if dim == 2 { "N/m" } else { "N" };
     let energy = if dim == 2 { "J/m" } else { "J" };
@@ -207,6 +211,9 @@ fn columns(
         names.push(("accel_z".into(), "m/s2".into()));
     } else {
         names.push(("accel_y".into(), "m/s2".into()));
+    }
+    if turns {
+        names.push(("tank_angle".into(), "rad".into()));
     }
     names.push(("eta_left".into(), "m".into()));
     names.push(("eta_right".into(), "m".into()));
@@ -359,6 +366,8 @@ struct CaseMeasurements<'o, const D: usize, O: ?Sized> {
     next_output: f64,
     next_frame: f64,
     compression: Option<f64>,
+    /// The tank's angle about its pivot for the coming row (rad; 0 when it does not turn).
+    tank_angle: f64,
     /// 2D: the fluid at the row of the largest wall-gauge |η| so far, and that |η| (m).
     largest_wave: Option<(RoofSnapshot, f64)>,
     /// Wall time of the loop before this call of the run (s), from a checkpoint.
@@ -462,6 +471,16 @@ impl<const D: usize, O: Observer<D> + ?Sized> CaseMeasurements<'_, D, O> {
 }
 
 impl<const D: usize, O: Observer<D> + ?Sized> StepHooks<D> for CaseMeasurements<'_, D, O> {
+    fn before_step_turning(
+        &mut self,
+        sim: &Simulation<D>,
+        accel: [f64; 3],
+        rotation: Option<&TankRotation>,
+    ) -> Result<(), HookError> {
+        self.tank_angle = rotation.map_or(0.0, |r| r.angle);
+        self.before_step(sim, accel)
+    }
+
     fn before_step(&mut self, sim: &Simulation<D>, accel: [f64; 3]) -> Result<(), HookError> {
         let t = sim.time();
         let settle = self.plan.settle;
@@ -478,6 +497,9 @@ impl<const D: usize, O: Observer<D> + ?Sized> StepHooks<D> for CaseMeasurements<
                 values.push(accel[2]);
             } else {
                 values.push(accel[2]);
+            }
+            if self.plan.turns {
+                values.push(self.tank_angle);
             }
             let fill = self.still_level;
             let eta = |h: &[f64]| {
@@ -608,6 +630,7 @@ where
         &extra_parts,
         &plan.roof_load,
         roof_load.has_roof(),
+        plan.turns,
     );
     observer.columns(&names)?;
     let part = |name: &str| sim.part_names().iter().position(|n| n == name);
@@ -628,6 +651,7 @@ where
         next_output: 0.0,
         next_frame: 0.0,
         compression: None,
+        tank_angle: 0.0,
         largest_wave: None,
         wall_time_before: 0.0,
         started: Instant::now(),

@@ -1,7 +1,7 @@
 //! The time loop: every run of slosh, whatever its front end, advances the solver here.
 
 use crate::motion::{to_vector, GroundMotion, MotionError};
-use slosh_core::{SimError, Simulation};
+use slosh_core::{SimError, Simulation, TankRotation};
 use std::error::Error;
 
 /// How far to advance.
@@ -50,6 +50,18 @@ pub trait StepHooks<const D: usize> {
     /// the step is about to apply.
     fn before_step(&mut self, _sim: &Simulation<D>, _accel: [f64; 3]) -> Result<(), HookError> {
         Ok(())
+    }
+
+    /// Called before each step in place of [`Self::before_step`], with the tank's rotation the
+    /// step is about to apply as well (`None` when the tank only translates); by default
+    /// [`Self::before_step`].
+    fn before_step_turning(
+        &mut self,
+        sim: &Simulation<D>,
+        accel: [f64; 3],
+        _rotation: Option<&TankRotation>,
+    ) -> Result<(), HookError> {
+        self.before_step(sim, accel)
     }
 
     /// Called after each step.
@@ -181,11 +193,16 @@ where
         let accel = motion
             .ground_accel(t)
             .map_err(|error| StepError::Motion { time: t, error })?;
+        let rotation = motion
+            .ground_rotation(t)
+            .map_err(|error| StepError::Motion { time: t, error })?;
         if hooks.reads_particles(sim, true) {
             sim.sync_host()?;
         }
-        hooks.before_step(sim, accel).map_err(StepError::Hook)?;
-        sim.step(to_vector::<D>(accel))?;
+        hooks
+            .before_step_turning(sim, accel, rotation.as_ref())
+            .map_err(StepError::Hook)?;
+        sim.step_turning(to_vector::<D>(accel), rotation.as_ref())?;
         // The step's measurements are complete before a stop: a run stopped here and
         // continued from its state takes the same measurements as one that goes on.
         if hooks.reads_particles(sim, false) {

@@ -59,6 +59,7 @@ fn plate_on_the_floor_and_column_carry_hydrostatic_loads() {
             omega: 6.0,
         },
         wall_gauges: None,
+        turns: false,
         roof_load: Default::default(),
     };
     let result = run_case(&mut sim, &plan, &mut AtRest, &mut (), &mut ()).expect("runs");

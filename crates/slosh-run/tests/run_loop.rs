@@ -35,6 +35,7 @@ fn plan(duration: f64) -> RunPlan {
             omega: 8.0,
         },
         wall_gauges: None,
+        turns: false,
         roof_load: Default::default(),
     }
 }

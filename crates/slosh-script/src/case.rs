@@ -36,6 +36,9 @@ pub struct Excitation {
     scope: Scope<'static>,
     file: PathBuf,
     has_ground_accel: bool,
+    /// The script's `fn ground_rotation(t)` with the axis and pivot of `run`, when it
+    /// defines one.
+    rotation: Option<RotationSetup>,
     has_post: bool,
     shared: Shared,
     /// Space dimension of the tank (2 or 3): how many components an array from
@@ -43,11 +46,56 @@ pub struct Excitation {
     dim: usize,
 }
 
-/// The script's `fn ground_accel(t)` drives the run loop of `slosh-run`: called once per
-/// step with the time since the excitation started.
+/// The axis and pivot of a turning tank.
+#[derive(Clone, Copy, Debug)]
+struct RotationSetup {
+    /// Unit axis `[x, y, z]`.
+    axis: [f64; 3],
+    /// The pivot `[x, y, z]` (m, tank frame); `None` until [`Excitation::set_default_pivot`]
+    /// when the script gives none.
+    pivot: Option<[f64; 3]>,
+}
+
+/// Largest |angle| `fn ground_rotation(t)` may return (rad): a quarter turn; a larger value
+/// is a tank on its side or a mistake of units (degrees for radians).
+pub const MAX_TANK_ANGLE: f64 = std::f64::consts::FRAC_PI_2;
+
+/// Time step of the differences that give the rate and angular acceleration of an
+/// angle-only `fn ground_rotation(t)` (s): central differences, second-order accurate, of
+/// relative error (ω δ)²/6 for the rate and (ω δ)²/12 for the acceleration, below 2e-4 for
+/// motions below 5 Hz; within one step of the excitation's start, forward differences (the
+/// function is not asked for negative times).
+pub const ROTATION_DIFFERENCE_STEP: f64 = 1e-3;
+
+/// The script's `fn ground_accel(t)` (and `fn ground_rotation(t)`) drive the run loop of
+/// `slosh-run`: called once per step with the time since the excitation started.
 impl slosh_run::GroundMotion for Excitation {
     fn ground_accel(&mut self, t: f64) -> Result<[f64; 3], slosh_run::MotionError> {
         Excitation::ground_accel(self, t).map_err(Into::into)
+    }
+
+    fn ground_rotation(
+        &mut self,
+        t: f64,
+    ) -> Result<Option<slosh_core::TankRotation>, slosh_run::MotionError> {
+        Excitation::ground_rotation(self, t).map_err(Into::into)
+    }
+}
+
+/// What `fn ground_rotation(t)` returned.
+#[derive(Clone, Copy, Debug)]
+enum RotationValue {
+    /// The angle alone (rad).
+    Angle(f64),
+    /// Angle (rad), rate (rad/s), angular acceleration (rad/s²).
+    Full(f64, f64, f64),
+}
+
+impl RotationValue {
+    fn angle(self) -> f64 {
+        match self {
+            RotationValue::Angle(a) | RotationValue::Full(a, _, _) => a,
+        }
     }
 }
 
@@ -71,6 +119,146 @@ impl Excitation {
     /// True when the script defines `fn post(run)`.
     pub fn has_post(&self) -> bool {
         self.has_post
+    }
+
+    /// True when the script defines `fn ground_rotation(t)`: the tank turns about a pivot.
+    pub fn turns(&self) -> bool {
+        self.rotation.is_some()
+    }
+
+    /// The pivot `[x, y, z]` (m) a turning tank turns about: the script's `rotation_pivot`, or
+    /// the default set by [`Self::set_default_pivot`].
+    pub fn rotation_pivot(&self) -> Option<[f64; 3]> {
+        self.rotation.and_then(|r| r.pivot)
+    }
+
+    /// The axis `[x, y, z]` a turning tank turns about.
+    pub fn rotation_axis(&self) -> Option<[f64; 3]> {
+        self.rotation.map(|r| r.axis)
+    }
+
+    /// Sets the pivot of a turning tank whose script gave none (the centre of the tank's
+    /// base, from the built tank).
+    pub fn set_default_pivot(&mut self, pivot: [f64; 3]) {
+        if let Some(r) = self.rotation.as_mut() {
+            r.pivot.get_or_insert(pivot);
+        }
+    }
+
+    /// The script's `fn ground_rotation(t)` at `t` (s since the excitation started): the
+    /// angle (rad) about the axis, its rate and acceleration from central differences of
+    /// step [`ROTATION_DIFFERENCE_STEP`], or all three when the function returns
+    /// `[angle, rate, acceleration]`. `None` when the script defines no rotation.
+    pub fn ground_rotation(
+        &mut self,
+        t: f64,
+    ) -> Result<Option<slosh_core::TankRotation>, ScriptError> {
+        let Some(setup) = self.rotation else {
+            return Ok(None);
+        };
+        let Some(pivot) = setup.pivot else {
+            return Err(ScriptError::case(
+                &self.file,
+                "the tank's pivot is not known: the script gives no rotation_pivot and the \
+                 tank was not built (the case runner sets the default, the centre of the \
+                 tank's base)",
+            ));
+        };
+        let Some((angle, rate, acceleration)) = self.rotation_state(t)? else {
+            return Ok(None);
+        };
+        Ok(Some(slosh_core::TankRotation {
+            axis: setup.axis,
+            pivot,
+            angle,
+            rate,
+            acceleration,
+        }))
+    }
+
+    /// The angle (rad), rate (rad/s) and angular acceleration (rad/s²) of
+    /// [`Self::ground_rotation`] at `t`, whatever the pivot; `None` without a rotation.
+    pub(crate) fn rotation_state(
+        &mut self,
+        t: f64,
+    ) -> Result<Option<(f64, f64, f64)>, ScriptError> {
+        if self.rotation.is_none() {
+            return Ok(None);
+        }
+        let first = self.call_rotation(t)?;
+        Ok(Some(match first {
+            RotationValue::Angle(angle) => {
+                let d = ROTATION_DIFFERENCE_STEP;
+                if t >= d {
+                    let before = self.call_rotation(t - d)?.angle();
+                    let after = self.call_rotation(t + d)?.angle();
+                    (
+                        angle,
+                        (after - before) / (2.0 * d),
+                        (after - 2.0 * angle + before) / (d * d),
+                    )
+                } else {
+                    let next = self.call_rotation(t + d)?.angle();
+                    let second = self.call_rotation(t + 2.0 * d)?.angle();
+                    (
+                        angle,
+                        (-3.0 * angle + 4.0 * next - second) / (2.0 * d),
+                        (angle - 2.0 * next + second) / (d * d),
+                    )
+                }
+            }
+            RotationValue::Full(a, r, acc) => (a, r, acc),
+        }))
+    }
+
+    /// One call of `fn ground_rotation(t)`, checked.
+    fn call_rotation(&mut self, t: f64) -> Result<RotationValue, ScriptError> {
+        let options = CallFnOptions::new().eval_ast(false).rewind_scope(true);
+        let value: Dynamic = self
+            .engine
+            .call_fn_with_options(options, &mut self.scope, &self.ast, "ground_rotation", (t,))
+            .map_err(|e| ScriptError::from_eval(&self.file, &e))?;
+        let out = if let Some(a) = crate::spec::dynamic_to_f64(&value) {
+            RotationValue::Angle(a)
+        } else {
+            match crate::engine::dynamic_to_vec(&value) {
+                Some(v) if v.len() == 3 => RotationValue::Full(v[0], v[1], v[2]),
+                _ => {
+                    return Err(ScriptError::case(
+                        &self.file,
+                        format!(
+                            "ground_rotation({t}) returned {value} ({}); return the angle in \
+                             rad, or [angle (rad), rate (rad/s), angular acceleration (rad/s²)]",
+                            value.type_name()
+                        ),
+                    ))
+                }
+            }
+        };
+        let values = match out {
+            RotationValue::Angle(a) => [a, 0.0, 0.0],
+            RotationValue::Full(a, r, acc) => [a, r, acc],
+        };
+        if values.iter().any(|v| !v.is_finite()) {
+            return Err(ScriptError::case(
+                &self.file,
+                format!(
+                    "ground_rotation({t}) returned a non-finite value {values:?}; the rotation \
+                     must be finite (check divisions and records)"
+                ),
+            ));
+        }
+        if values[0].abs() > MAX_TANK_ANGLE {
+            return Err(ScriptError::case(
+                &self.file,
+                format!(
+                    "ground_rotation({t}) returned {} rad, beyond a quarter turn; the angle is in \
+                     radians (deg × π/180)",
+                    values[0]
+                ),
+            ));
+        }
+        Ok(out)
     }
 
     /// Ground acceleration (m/s², components x, y, z; in 2D x and vertical) at time `t` (s)
@@ -274,7 +462,8 @@ impl Case {
     /// Samples `ground_accel` every 5 ms or finer over the excitation.
     pub fn excitation_speed(&mut self) -> Result<f64, ScriptError> {
         let span = (self.run.duration - self.run.settle).max(0.0);
-        if !self.excitation.has_ground_accel() || span <= 0.0 {
+        let turns = self.excitation.turns();
+        if !(self.excitation.has_ground_accel() || turns) || span <= 0.0 {
             return Ok(0.0);
         }
         let n = ((span / 0.005).ceil() as usize).clamp(1, 2_000_000);
@@ -282,6 +471,30 @@ impl Case {
         let mut velocity = [0.0f64; 3];
         let mut low = [0.0f64; 3];
         let mut high = [0.0f64; 3];
+        // A turning tank: the walls' speed about the pivot, |θ̇| times the tank's size, and the
+        // acceleration that drives the liquid across, g |θ| (gravity turned) plus |θ̈| times
+        // the size.
+        let size = self.tank.horizontal_size();
+        // The lever of the walls about the pivot: the tank's size, plus the pivot's distance
+        // from the tank's origin when the script places it (far below a tank on a tall
+        // foundation, say).
+        let lever = size
+            + self
+                .run
+                .rotation_pivot
+                .as_ref()
+                .map_or(0.0, |p| p.iter().map(|v| v * v).sum::<f64>().sqrt());
+        let (mut wall_speed, mut turning_accel) = (0.0f64, 0.0f64);
+        let mut turning = |e: &mut Excitation, t: f64| -> Result<(), ScriptError> {
+            if let Some((angle, rate, acceleration)) = e.rotation_state(t)? {
+                wall_speed = wall_speed.max(rate.abs() * lever);
+                turning_accel = turning_accel.max(9.81 * angle.abs() + acceleration.abs() * lever);
+            }
+            Ok(())
+        };
+        if turns {
+            turning(&mut self.excitation, 0.0)?;
+        }
         let mut previous = self.excitation.ground_accel(0.0)?;
         let mut a_max = previous.iter().fold(0.0f64, |m, a| m.max(a.abs()));
         for i in 1..=n {
@@ -293,6 +506,9 @@ impl Case {
                 ));
             }
             let a = self.excitation.ground_accel(i as f64 * dt)?;
+            if turns {
+                turning(&mut self.excitation, i as f64 * dt)?;
+            }
             for k in 0..3 {
                 velocity[k] += 0.5 * dt * (a[k] + previous[k]);
                 low[k] = low[k].min(velocity[k]);
@@ -301,8 +517,10 @@ impl Case {
             }
             previous = a;
         }
-        let ground = (0..3).map(|k| 0.5 * (high[k] - low[k])).fold(0.0, f64::max);
-        let across = (2.0 * a_max * self.tank.horizontal_size()).sqrt();
+        let ground = (0..3)
+            .map(|k| 0.5 * (high[k] - low[k]))
+            .fold(wall_speed, f64::max);
+        let across = (2.0 * (a_max + turning_accel) * size).sqrt();
         Ok(ground.min(across))
     }
 }
@@ -453,13 +671,52 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
     }
     let has_ground_accel = checks::defines(path, &source, &ast, &checks::GROUND_ACCEL)?;
     let has_post = checks::defines(path, &source, &ast, &checks::POST)?;
+    let rotation = if checks::defines(path, &source, &ast, &checks::GROUND_ROTATION)? {
+        let dim = tank.dim();
+        let axis = run.rotation_axis.unwrap_or([0.0, 1.0, 0.0]);
+        if dim == 2 && (axis[0] != 0.0 || axis[2] != 0.0) {
+            return Err(err(format!(
+                "run: rotation_axis {axis:?} for a 2D tank, which turns about y only (the axis \
+                 out of its x–z section); leave rotation_axis out"
+            )));
+        }
+        let pivot =
+            match &run.rotation_pivot {
+                None => None,
+                Some(p) if p.len() == dim && p.iter().all(|v| v.is_finite()) => Some(if dim == 2 {
+                    [p[0], 0.0, p[1]]
+                } else {
+                    [p[0], p[1], p[2]]
+                }),
+                Some(p) => {
+                    return Err(err(format!(
+                    "run: rotation_pivot must be {} finite numbers for a {dim}D tank (got {p:?})",
+                    if dim == 2 { "[x, z]: two" } else { "[x, y, z]: three" }
+                )))
+                }
+            };
+        Some(RotationSetup { axis, pivot })
+    } else {
+        for (given, key) in [
+            (run.rotation_pivot.is_some(), "rotation_pivot"),
+            (run.rotation_axis.is_some(), "rotation_axis"),
+        ] {
+            if given {
+                return Err(err(format!(
+                    "run: {key} is given but the script defines no fn ground_rotation(t); \
+                     define it (the tank's angle in rad) or remove {key}"
+                )));
+            }
+        }
+        None
+    };
     let params = d.params.clone();
     let gauges = d.gauges.clone();
     let roof_sensors = d.roof_sensors.clone();
     let motions = d.motions.lock().expect("motion log").clone();
     drop(d);
     let mut warnings = checks::record_coverage(path, &motions, &run)?;
-    if !has_ground_accel {
+    if !has_ground_accel && rotation.is_none() {
         warnings.push(format!(
             "{}: the script defines no fn ground_accel(t): the tank is not shaken (gravity and \
              the initial tilt only); define fn ground_accel(t) to apply a ground motion",
@@ -488,6 +745,7 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
             scope: Scope::new(),
             file: path.to_path_buf(),
             has_ground_accel,
+            rotation,
             has_post,
             shared,
             dim,

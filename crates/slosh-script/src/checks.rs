@@ -26,6 +26,14 @@ pub(crate) const GROUND_ACCEL: HostCalled = HostCalled {
               not shaken",
 };
 
+/// The tank's rotation, called every step.
+pub(crate) const GROUND_ROTATION: HostCalled = HostCalled {
+    name: "ground_rotation",
+    parameter: "t",
+    purpose: "slosh calls it every step for the tank's angle about its pivot; without it the \
+              tank does not turn",
+};
+
 /// The post-processing, called once after the run.
 pub(crate) const POST: HostCalled = HostCalled {
     name: "post",
@@ -124,9 +132,14 @@ pub(crate) fn record_coverage(
                 ),
             ));
         }
+        let after = if m.format == crate::motion_api::ROTATION_TABLE {
+            "the tank rests at the record's last angle"
+        } else {
+            "the ground acceleration is zero"
+        };
         warnings.push(format!(
-            "{ends}: the ground acceleration is zero for the last {} s; shorten the run \
-             (duration ≤ settle + {} s) or use a longer record",
+            "{ends}: {after} for the last {} s; shorten the run (duration ≤ settle + {} s) or \
+             use a longer record",
             excitation_s - m.end_time_s,
             m.end_time_s
         ));

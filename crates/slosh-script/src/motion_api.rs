@@ -26,6 +26,15 @@
 //!   ground displacement is therefore x_g(t) = −A sin(ωt + φ); A in m, ω in rad/s, φ in rad.
 //!   `sines([[A1, ω1], [A2, ω2, φ2], ...])` is their sum. Both are `Excitation` values with
 //!   `at(t)` and `scale(f)`.
+//! * `load_rotation(path, #{units: "deg"})` → `RotationRecord`: a recorded rotation of the
+//!   tank, a plain-text table of time (s), angle and optionally its rate and angular
+//!   acceleration (`units` `"rad"` or `"deg"`, required), interpolated twice continuously
+//!   differentiable (`slosh_motion::rotation`); `at(t)` gives `[angle (rad), rate (rad/s),
+//!   angular acceleration (rad/s²)]`, the form `fn ground_rotation(t)` returns; `duration()`,
+//!   `npts()`, `peak_angle()` (rad).
+//! * `record.rocking(period, damping, lever)` → `RotationRecord`: the rocking of a tank on a
+//!   flexible foundation under the record, θ̈ + 2ζω θ̇ + ω² θ = −λ a_g (λ = m h / I_θ, 1/m;
+//!   `slosh_motion::RotationRecord::rocking`).
 //! * `+` adds any two of `Record` and `Excitation` into an `Excitation` (e.g. a record plus a
 //!   sine); three components are returned by the script as `[gx.at(t), gy.at(t), gz.at(t)]`.
 //!
@@ -96,6 +105,13 @@ struct ScriptRecord {
     version: u64,
 }
 
+/// The `format` of a rotation table's entry in the log of records.
+pub(crate) const ROTATION_TABLE: &str = "rotation table";
+
+/// A recorded rotation as a script holds it (Rhai type `RotationRecord`).
+#[derive(Clone)]
+struct ScriptRotation(Arc<slosh_motion::RotationRecord>);
+
 /// Sines, sums, and records combined with them (Rhai type `Excitation`).
 #[derive(Clone)]
 struct ScriptExcitation(Arc<Excitation>);
@@ -125,6 +141,7 @@ fn number(value: &Dynamic, what: &str) -> Result<f64, Box<EvalAltResult>> {
 pub(crate) fn register_motion_api(engine: &mut Engine, sandbox: Arc<ReadSandbox>, log: MotionLog) {
     engine.register_type_with_name::<ScriptRecord>("Record");
     engine.register_type_with_name::<ScriptExcitation>("Excitation");
+    engine.register_type_with_name::<ScriptRotation>("RotationRecord");
 
     let (dir, lg) = (sandbox.clone(), log.clone());
     engine.register_fn(
@@ -133,13 +150,48 @@ pub(crate) fn register_motion_api(engine: &mut Engine, sandbox: Arc<ReadSandbox>
             load_record(&dir, &lg, file, &Map::new())
         },
     );
-    let (dir, lg) = (sandbox, log.clone());
+    let (dir, lg) = (sandbox.clone(), log.clone());
     engine.register_fn(
         "load_record",
         move |file: &str, options: Map| -> Result<ScriptRecord, Box<EvalAltResult>> {
             load_record(&dir, &lg, file, &options)
         },
     );
+    let (dir, lg) = (sandbox, log.clone());
+    engine.register_fn(
+        "load_rotation",
+        move |file: &str, options: Map| -> Result<ScriptRotation, Box<EvalAltResult>> {
+            load_rotation(&dir, &lg, file, &options)
+        },
+    );
+    engine.register_fn("at", |r: &mut ScriptRotation, t: f64| -> Array {
+        r.0.at(t).iter().map(|v| Dynamic::from_float(*v)).collect()
+    });
+    engine.register_fn("at", |r: &mut ScriptRotation, t: rhai::INT| -> Array {
+        r.0.at(t as f64)
+            .iter()
+            .map(|v| Dynamic::from_float(*v))
+            .collect()
+    });
+    engine.register_fn(
+        "rocking",
+        |r: &mut ScriptRecord,
+         period: Dynamic,
+         damping: Dynamic,
+         lever: Dynamic|
+         -> Result<ScriptRotation, Box<EvalAltResult>> {
+            let what = "rocking(period, damping, lever)";
+            let period = number(&period, &format!("{what}: period (s)"))?;
+            let damping = number(&damping, &format!("{what}: damping ratio"))?;
+            let lever = number(&lever, &format!("{what}: lever m h / I (1/m)"))?;
+            slosh_motion::RotationRecord::rocking(&r.record, period, damping, lever)
+                .map(|rot| ScriptRotation(Arc::new(rot)))
+                .map_err(|e| runtime_error(format!("{what} of the record \"{}\": {e}", r.file)))
+        },
+    );
+    engine.register_fn("duration", |r: &mut ScriptRotation| r.0.duration_s());
+    engine.register_fn("npts", |r: &mut ScriptRotation| r.0.len() as rhai::INT);
+    engine.register_fn("peak_angle", |r: &mut ScriptRotation| r.0.peak_angle_rad());
 
     // Processing: each returns a new record and keeps the log up to date.
     let lg = log.clone();
@@ -422,6 +474,52 @@ fn load_record(
         log_slot: entries.len() - 1,
         version,
     })
+}
+
+/// Reads a rotation table for `load_rotation` (`units`: `"rad"` or `"deg"`, required) and
+/// logs it beside the acceleration records (its peak angle in the processing log).
+fn load_rotation(
+    sandbox: &ReadSandbox,
+    log: &MotionLog,
+    file: &str,
+    options: &Map,
+) -> Result<ScriptRotation, Box<EvalAltResult>> {
+    let fail = |message: String| runtime_error(format!("load_rotation(\"{file}\"): {message}"));
+    let mut reader = MapReader::new("load_rotation options", options);
+    let units = reader.str_or("units", "").map_err(fail)?;
+    reader.finish().map_err(fail)?;
+    if units.is_empty() {
+        return Err(fail(format!(
+            "state the angles' unit, e.g. load_rotation(\"{file}\", #{{units: \"deg\"}}) (\"rad\" or \"deg\")"
+        )));
+    }
+    let unit = slosh_motion::AngleUnit::from_str(&units).map_err(|e| fail(e.to_string()))?;
+    let path = sandbox.resolve(file).map_err(fail)?;
+    let record = slosh_motion::read_rotation(&path, unit).map_err(|e| fail(e.to_string()))?;
+    let mut processing = record.processing_log.clone();
+    processing.push(format!("peak angle {:.6} rad", record.peak_angle_rad()));
+    let duration = record.duration_s();
+    let info = MotionInfo {
+        file: file.to_string(),
+        path: path.display().to_string(),
+        format: ROTATION_TABLE.into(),
+        sha256: record.sha256_hex.clone(),
+        npts: record.len(),
+        dt_s: duration / (record.len().max(2) - 1) as f64,
+        units: unit.to_string(),
+        scale_factor: 1.0,
+        pga_m_s2: 0.0,
+        duration_s: duration,
+        start_time_s: 0.0,
+        end_time_s: duration,
+        warnings: Vec::new(),
+        processing,
+        newest_version: next_version(),
+    };
+    log.lock()
+        .map_err(|_| runtime_error("internal lock"))?
+        .push(info);
+    Ok(ScriptRotation(Arc::new(record)))
 }
 
 /// Applies `op` to a copy of `from` (`op` returns the scale factor it applied, 1 when none)

@@ -1260,6 +1260,39 @@ pub struct RunSpec {
     pub roof_damping: f64,
     /// Roof periods T_r at which `summary.ron` gives the equivalent static roof load (s).
     pub roof_periods: Vec<f64>,
+    /// The unit axis `fn ground_rotation(t)` turns the tank about, `[x, y, z]`; `None`: y (a
+    /// positive angle lowers the +x wall; a 2D tank turns about y only).
+    pub rotation_axis: Option<[f64; 3]>,
+    /// The pivot the tank turns about, in the tank's coordinates (`[x, z]` in 2D, `[x, y, z]`
+    /// in 3D, m); `None`: the centre of the tank's base.
+    pub rotation_pivot: Option<Vec<f64>>,
+}
+
+/// Reads `rotation_axis`: `"x"`, `"y"`, `"z"` or a list of three numbers (made unit).
+fn rotation_axis(r: &mut MapReader) -> Result<Option<[f64; 3]>, String> {
+    let Some(d) = r.get("rotation_axis") else {
+        return Ok(None);
+    };
+    if d.is_string() {
+        let name = d.clone().into_string().unwrap_or_default();
+        return match name.as_str() {
+            "x" => Ok(Some([1.0, 0.0, 0.0])),
+            "y" => Ok(Some([0.0, 1.0, 0.0])),
+            "z" => Ok(Some([0.0, 0.0, 1.0])),
+            _ => Err(format!(
+                "run: unknown rotation_axis \"{name}\" (use \"x\", \"y\", \"z\" or [nx, ny, nz])"
+            )),
+        };
+    }
+    let v = r.opt_numbers("rotation_axis")?.unwrap_or_default();
+    let norm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
+    if v.len() != 3 || !(norm.is_finite() && norm > 0.0) {
+        return Err(format!(
+            "run: rotation_axis must be \"x\", \"y\", \"z\" or three numbers not all zero \
+             (got {d})"
+        ));
+    }
+    Ok(Some([v[0] / norm, v[1] / norm, v[2] / norm]))
 }
 
 impl RunSpec {
@@ -1275,6 +1308,8 @@ impl RunSpec {
             roof_periods: r
                 .opt_numbers("roof_periods")?
                 .unwrap_or_else(|| DEFAULT_ROOF_PERIODS.to_vec()),
+            rotation_axis: rotation_axis(&mut r)?,
+            rotation_pivot: r.opt_numbers("rotation_pivot")?,
         };
         r.finish()?;
         if !(spec.roof_damping.is_finite() && (0.0..1.0).contains(&spec.roof_damping)) {
@@ -1354,6 +1389,8 @@ impl Default for RunSpec {
             load_filter_hz: None,
             roof_damping: DEFAULT_ROOF_DAMPING,
             roof_periods: DEFAULT_ROOF_PERIODS.to_vec(),
+            rotation_axis: None,
+            rotation_pivot: None,
         }
     }
 }

@@ -14,6 +14,7 @@ pub mod housner;
 pub mod linear;
 pub mod modal;
 pub mod natural;
+pub mod pitch;
 pub mod report;
 pub mod roof;
 pub mod section_modes;

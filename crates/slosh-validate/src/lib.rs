@@ -13,12 +13,14 @@ mod damping;
 mod experiments;
 mod forced_linear;
 pub mod gci;
+mod impacts;
 mod modern;
 mod real_scale;
 mod report;
 mod resolution;
 mod resume;
 mod roof_convergence;
+mod rotation;
 mod run;
 mod scripts;
 mod sections;
@@ -463,6 +465,14 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
                 "Real scale: free sloshing of 2D sections",
                 real_scale::free_sloshing_2d,
             ),
+        ),
+        (
+            "rotating tank: tilt, pitch about a pivot below and above the surface, 3D axis",
+            one(rotation::GROUP, rotation::frame_checks),
+        ),
+        (
+            "impact pressure against experiment: SPHERIC Test 10 roof impact",
+            one(impacts::GROUP, impacts::roof_impact),
         ),
         (
             "shipped scripts: the paper's §3.1 case",

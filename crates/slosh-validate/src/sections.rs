@@ -302,6 +302,7 @@ pub fn cone_roof_impact(ctx: &Context) -> GroupResult {
                 omega: omega_1,
             },
             wall_gauges: None,
+            turns: false,
             roof_load: Default::default(),
         };
         let mut motion = |t: f64| [amplitude * omega * omega * (omega * t).sin(), 0.0, 0.0];

@@ -145,6 +145,8 @@ pub struct Simulation<const D: usize> {
     pub(crate) device: Option<Box<dyn StepDevice<D>>>,
     /// The device has stepped since the fluid arrays were last copied back.
     pub(crate) host_stale: bool,
+    /// The tank's rotation of the last step, when the ground turns it.
+    pub(crate) rotation: Option<crate::frame::TankRotation>,
 }
 
 impl<const D: usize> Simulation<D> {
@@ -416,6 +418,7 @@ impl<const D: usize> Simulation<D> {
             wall_scatter: WallScatter::default(),
             device: None,
             host_stale: false,
+            rotation: None,
             params,
         };
         sim.still_level_cached = sim.still_level();
@@ -499,8 +502,14 @@ impl<const D: usize> Simulation<D> {
         dt
     }
 
+    /// The tank's rotation applied by the last step ([`Self::step_turning`]); `None` when the
+    /// tank only translates.
+    pub fn rotation(&self) -> Option<&crate::frame::TankRotation> {
+        self.rotation.as_ref()
+    }
+
     /// Wall pressures for loads of the state the forces were computed on, labelled `time`.
-    pub(crate) fn record_loads_at(&mut self, body_force: Vector<D>, time: f64) {
+    pub(crate) fn record_loads_at(&mut self, body: &crate::frame::BodyForce<D>, time: f64) {
         let (kernel, mass, dx) = (self.constants.kernel, self.constants.mass, self.spacing);
         let step = self.step;
         with_search!(&self.search, s => self.loads.record_step(
@@ -510,7 +519,7 @@ impl<const D: usize> Simulation<D> {
             &kernel,
             mass,
             &self.params,
-            body_force,
+            body,
             step,
             time,
             dx,

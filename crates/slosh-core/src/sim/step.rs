@@ -16,20 +16,60 @@
 //!    symplectic: corrector; then shifting, and the blow-up checks.
 
 use crate::error::SimError;
+use crate::frame::{BodyForce, RotatingFrame, TankRotation};
 use crate::sim::*;
 
 impl<const D: usize> Simulation<D> {
     /// Advances one time step with the ground acceleration `ground_accel` (m/s², tank frame:
     /// the fluid feels −ground_accel as a body force besides gravity).
     pub fn step(&mut self, ground_accel: Vector<D>) -> Result<(), SimError> {
+        self.step_turning(ground_accel, None)
+    }
+
+    /// Advances one time step with the ground acceleration `ground_accel` (m/s², world frame)
+    /// and, when given, the tank's rotation about a pivot ([`crate::frame`]: gravity turning
+    /// with the tank and the Euler, centrifugal and Coriolis forces). Without a rotation this
+    /// is [`Self::step`].
+    pub fn step_turning(
+        &mut self,
+        ground_accel: Vector<D>,
+        rotation: Option<&TankRotation>,
+    ) -> Result<(), SimError> {
         if !ground_accel.iter().all(|a| a.is_finite()) {
             return Err(SimError::BadExcitation {
                 time: self.time,
                 value: format!("{:?}", ground_accel.as_slice()),
             });
         }
+        if let Some(r) = rotation {
+            if !r.is_valid() {
+                return Err(SimError::BadExcitation {
+                    time: self.time,
+                    value: format!(
+                        "rotation angle {} rad, rate {} rad/s, acceleration {} rad/s², axis {:?}, pivot {:?}",
+                        r.angle, r.rate, r.acceleration, r.axis, r.pivot
+                    ),
+                });
+            }
+            if D == 2 && (r.axis[0] != 0.0 || r.axis[2] != 0.0) {
+                return Err(SimError::InvalidSetup(format!(
+                    "a 2D tank turns about the y axis only (the axis out of its x–z section); got \
+                     the axis {:?}",
+                    r.axis
+                )));
+            }
+            if self.device.is_some() {
+                return Err(SimError::InvalidSetup(
+                    "a rotating tank runs on the CPU backend only (backend = \"cpu\"); the device \
+                     backends apply a uniform body force"
+                        .into(),
+                ));
+            }
+        }
+        self.rotation = rotation.copied();
+        let body = BodyForce::new(self.params.gravity, ground_accel, rotation);
         if self.device.is_some() {
-            return self.device_step(ground_accel);
+            return self.device_step(body);
         }
         let plan = self.plan;
         let symplectic = plan.integration == TimeIntegration::Symplectic;
@@ -42,8 +82,7 @@ impl<const D: usize> Simulation<D> {
         {
             self.sort_by_cell();
         }
-        let mut body_force = -ground_accel;
-        body_force[D - 1] -= self.params.gravity;
+        let body_force = body.uniform;
 
         let mut dt = 0.0;
         if symplectic {
@@ -56,13 +95,16 @@ impl<const D: usize> Simulation<D> {
             self.reindex();
             let t_search = std::time::Instant::now();
             self.phase_times.neighbour_search += (t_search - clock).as_secs_f64();
-            self.density_and_wall_stages(body_force);
+            self.density_and_wall_stages(&body);
             self.phase_times.density += t_search.elapsed().as_secs_f64();
         } else {
             self.phase_times.integration += (t1 - clock).as_secs_f64();
         }
         let t2 = std::time::Instant::now();
         self.force_stage(body_force);
+        if let Some(frame) = &body.rotating {
+            self.add_frame_forces(frame);
+        }
         let t3 = std::time::Instant::now();
         self.phase_times.forces += (t3 - t2).as_secs_f64();
         let load_time = if symplectic {
@@ -70,7 +112,7 @@ impl<const D: usize> Simulation<D> {
         } else {
             self.time
         };
-        self.record_loads_at(body_force, load_time);
+        self.record_loads_at(&body, load_time);
         let t4 = std::time::Instant::now();
         self.phase_times.loads += (t4 - t3).as_secs_f64();
 
@@ -97,10 +139,9 @@ impl<const D: usize> Simulation<D> {
     /// length and its statistics, the blow-up counts and this step's wall pressures, from
     /// which it records the loads as the CPU step does (at the mid-step time of the
     /// symplectic integrator).
-    fn device_step(&mut self, ground_accel: Vector<D>) -> Result<(), SimError> {
+    fn device_step(&mut self, body: BodyForce<D>) -> Result<(), SimError> {
         let clock = std::time::Instant::now();
-        let mut body_force = -ground_accel;
-        body_force[D - 1] -= self.params.gravity;
+        let body_force = body.uniform;
         let Some(device) = self.device.as_mut() else {
             return Ok(());
         };
@@ -139,7 +180,7 @@ impl<const D: usize> Simulation<D> {
         self.stats.dt_max = self.stats.dt_max.max(dt);
         let t_loads = std::time::Instant::now();
         self.phase_times.forces += (t_loads - clock).as_secs_f64();
-        self.record_loads_at(body_force, self.time + 0.5 * dt);
+        self.record_loads_at(&body, self.time + 0.5 * dt);
         let t_end = std::time::Instant::now();
         self.phase_times.loads += (t_end - t_loads).as_secs_f64();
         self.blow_up_check(
@@ -185,7 +226,7 @@ impl<const D: usize> Simulation<D> {
         }
         let mut body = Vector::<D>::zeros();
         body[D - 1] = -self.params.gravity;
-        self.density_and_wall_stages(body);
+        self.density_and_wall_stages(&BodyForce::uniform(body));
     }
 
     /// Re-sorts and re-indexes the fluid as the plan's sorting asks.
@@ -198,7 +239,7 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// The density stage, then the wall stage.
-    fn density_and_wall_stages(&mut self, body_force: Vector<D>) {
+    fn density_and_wall_stages(&mut self, body: &BodyForce<D>) {
         let c = self.constants;
         let summed_walls = self.plan.walls == WallStage::Dynamic;
         match self.plan.density {
@@ -229,7 +270,7 @@ impl<const D: usize> Simulation<D> {
                         .zip(self.fluid.position.par_iter())
                         .with_min_len(PAR_CHUNK)
                         .for_each(|(rho_h, x)| {
-                            *rho_h = hydrostatic_density(&c, g, inv_gamma, level - x[D - 1]);
+                            *rho_h = hydrostatic_density(&c, g, inv_gamma, level - body.height(x));
                         });
                 }
             }
@@ -255,7 +296,7 @@ impl<const D: usize> Simulation<D> {
                     &mut self.walls,
                     &mut self.next_wall_density,
                     &mut self.buffers,
-                    body_force,
+                    body,
                 ));
                 if no_slip_viscous {
                     with_search!(&self.search, s => wall_strain_pass(
@@ -268,6 +309,18 @@ impl<const D: usize> Simulation<D> {
                 }
             }
         }
+    }
+
+    /// Adds the Euler, centrifugal and Coriolis forces of a turning tank to every fluid
+    /// particle's acceleration, at the positions and velocities the force stage used.
+    fn add_frame_forces(&mut self, frame: &RotatingFrame<D>) {
+        self.fluid
+            .acceleration
+            .par_iter_mut()
+            .zip(self.fluid.position.par_iter())
+            .zip(self.fluid.velocity.par_iter())
+            .with_min_len(PAR_CHUNK)
+            .for_each(|((a, x), v)| *a += frame.moving_terms(x, v));
     }
 
     /// The force stage.

@@ -10,7 +10,7 @@ use crate::terms::*;
 use rayon::prelude::*;
 
 /// Wall pressure and density (through the inverse EOS) of every wall particle from its fluid
-/// neighbours, with the body force `body_force` (m/s²) in the hydrostatic part; its nearest
+/// neighbours, with the body force at the wall particle (m/s²) in the hydrostatic part; its nearest
 /// fluid particle (for the paper's load evaluation); with `no_slip` the mirrored velocity
 /// the fluid sees in `st.wall_velocity`.
 #[allow(clippy::too_many_arguments)]
@@ -23,7 +23,7 @@ pub(crate) fn adami_walls<const D: usize, S: NeighbourSearch<D>>(
     walls: &mut Walls<D>,
     next_wall_density: &mut [f64],
     st: &mut StageBuffers<D>,
-    body_force: Vector<D>,
+    body: &crate::frame::BodyForce<D>,
 ) {
     let wall_pos = &walls.position;
     let sums_of = WallSums {
@@ -65,7 +65,7 @@ pub(crate) fn adami_walls<const D: usize, S: NeighbourSearch<D>>(
             nearest,
         } = sums;
         if sum_w > 1e-12 {
-            let mut pw = (sum_pw + body_force.dot(&sum_rx)) / sum_w;
+            let mut pw = (sum_pw + body.at(&xw).dot(&sum_rx)) / sum_w;
             if c.clamp_negative || c.wall_separation {
                 pw = pw.max(0.0);
             }
