@@ -11,7 +11,7 @@
 //! at rest; after the last, the last.
 
 use crate::error::{MotionError, Result};
-use crate::readers::{numeric_table, sha256_hex, NumericTable};
+use crate::readers::{numeric_table, read_bytes, sha256_hex, NumericTable};
 use std::path::Path;
 
 /// Unit of a rotation table's angles.
@@ -72,10 +72,7 @@ pub struct RotationRecord {
 /// Reads a rotation table (see the module docs) with angles in `unit`.
 pub fn read_rotation(path: impl AsRef<Path>, unit: AngleUnit) -> Result<RotationRecord> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|source| MotionError::Io {
-        path: path.display().to_string(),
-        source,
-    })?;
+    let bytes = read_bytes(path)?;
     parse_rotation(&bytes, &path.display().to_string(), unit)
 }
 

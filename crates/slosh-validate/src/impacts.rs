@@ -68,14 +68,18 @@ fn first_sensor_impact(t: &[f64], p: &[f64], window: (f64, f64)) -> Result<(f64,
             (t[start], p[start]),
             |m, (ti, pi)| if *pi > m.1 { (*ti, *pi) } else { m },
         );
-    let (from, to) = (t_peak - window.0, t_peak + window.1);
-    let impulse = t
-        .windows(2)
+    let impulse = positive_impulse(t, p, t_peak - window.0, t_peak + window.1);
+    Ok((peak, t_peak, impulse))
+}
+
+/// ∫ max(p, 0) dt (Pa·s) of the samples `p`(`t`) over the intervals within [`from`, `to`] s,
+/// by the trapezoidal rule.
+fn positive_impulse(t: &[f64], p: &[f64], from: f64, to: f64) -> f64 {
+    t.windows(2)
         .zip(p.windows(2))
         .filter(|(tw, _)| tw[0] >= from && tw[1] <= to)
         .map(|(tw, pw)| 0.5 * (pw[0].max(0.0) + pw[1].max(0.0)) * (tw[1] - tw[0]))
-        .sum();
-    Ok((peak, t_peak, impulse))
+        .sum()
 }
 
 /// The representative run's peak (Pa), its time (s) and the impulse of its positive pressure
@@ -102,11 +106,10 @@ fn representative_impact() -> Result<(f64, f64, f64, (f64, f64))> {
         .iter()
         .copied()
         .fold((0.0, 0.0), |m, r| if r.1 > m.1 { r } else { m });
-    let impulse = rows
-        .windows(2)
-        .map(|w| 0.5 * (w[0].1.max(0.0) + w[1].1.max(0.0)) * (w[1].0 - w[0].0))
-        .sum();
-    let span = (peak.0 - rows[0].0, rows[rows.len() - 1].0 - peak.0);
+    let (t, p): (Vec<f64>, Vec<f64>) = rows.iter().copied().unzip();
+    let (first, last) = (t[0], t[t.len() - 1]);
+    let impulse = positive_impulse(&t, &p, first, last);
+    let span = (peak.0 - first, last - peak.0);
     Ok((peak.1, peak.0, impulse, span))
 }
 

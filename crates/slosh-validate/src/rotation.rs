@@ -143,6 +143,17 @@ fn antisymmetric(left: &[f64], right: &[f64]) -> Vec<f64> {
     left.iter().zip(right).map(|(l, r)| 0.5 * (r - l)).collect()
 }
 
+/// Largest |v|.
+fn largest_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+/// RMS of a − b, sample by sample over their common length.
+fn rms_difference(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    (a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>() / n.max(1) as f64).sqrt()
+}
+
 fn pitch_rows(ctx: &Context, result: &mut GroupResult, pivot_above_bottom: f64, label: &str) {
     let per_depth = 25;
     let dx = DEPTH / per_depth as f64;
@@ -165,20 +176,18 @@ fn pitch_rows(ctx: &Context, result: &mut GroupResult, pivot_above_bottom: f64, 
         result.particle_steps += particle_steps(&run.summary);
         let sph = antisymmetric(&left, &right);
         let theory = pitch_theory(pivot_above_bottom - DEPTH, &t, dx)?;
-        let judged: Vec<(f64, f64)> = t
+        let (sph, theory): (Vec<f64>, Vec<f64>) = t
             .iter()
             .zip(sph.iter().zip(&theory))
             .filter(|(ti, _)| **ti >= SETTLE)
             .map(|(_, (s, th))| (*s, *th))
-            .collect();
-        anyhow::ensure!(!judged.is_empty(), "no row after the settling time");
-        let largest =
-            |f: fn(&(f64, f64)) -> f64| judged.iter().map(f).fold(0.0, |m: f64, v| m.max(v.abs()));
-        let (sph_max, theory_max) = (largest(|p| p.0), largest(|p| p.1));
-        let rms = (judged.iter().map(|(s, th)| (s - th).powi(2)).sum::<f64>()
-            / judged.len() as f64)
-            .sqrt();
-        Ok((sph_max, theory_max, rms))
+            .unzip();
+        anyhow::ensure!(!sph.is_empty(), "no row after the settling time");
+        Ok((
+            largest_abs(&sph),
+            largest_abs(&theory),
+            rms_difference(&sph, &theory),
+        ))
     });
     match measured {
         Ok((sph_max, theory_max, rms)) => {
@@ -269,15 +278,10 @@ fn axis_rows(ctx: &Context, result: &mut GroupResult) {
         let [tt, lt, rt] = turned.columns(["t", "eta_lowered", "eta_raised"])?;
         let y_wave = antisymmetric(&ry, &ly);
         let turned_wave = antisymmetric(&rt, &lt);
-        let largest = y_wave.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let largest = largest_abs(&y_wave);
         let rows = ty.len().min(tt.len());
         anyhow::ensure!(rows > 10 && largest > 0.0, "no wave in the runs");
-        let rms = ((0..rows)
-            .map(|k| (y_wave[k] - turned_wave[k]).powi(2))
-            .sum::<f64>()
-            / rows as f64)
-            .sqrt();
-        Ok((rms / largest, largest))
+        Ok((rms_difference(&y_wave, &turned_wave) / largest, largest))
     });
     match measured {
         Ok((ratio, largest)) => result.checks.push(condition(
