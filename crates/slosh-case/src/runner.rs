@@ -464,7 +464,7 @@ fn run_built<const D: usize>(
         roof_tank: roof_tank(&tank, sim.params(), theory.omega_1),
         wall_gauges,
         roof_load: slosh_run::RoofLoadPlan {
-            sensors: case.roof_sensors.clone(),
+            sensors: case.pressure_sensors.clone(),
             damping_ratio: case.run.roof_damping,
             design_periods: case.run.roof_periods.clone(),
         },

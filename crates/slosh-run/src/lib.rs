@@ -24,7 +24,7 @@ pub mod stepping;
 pub use load_filter::{LoadFilter, LoadPeak};
 pub use motion::{to_vector, AfterSettling, AtRest, GroundMotion, MotionError};
 pub use roof::{RoofImpact, RoofMonitor, RoofSnapshot, RoofTank};
-pub use roof_load::{RoofLoadPlan, RoofLoadResult, RoofLoadSummary, RoofSensor, Spread};
+pub use roof_load::{PressureSensor, RoofLoadPlan, RoofLoadResult, RoofLoadSummary, Spread};
 pub use run::{
     part_force_column, run_case, run_case_from, sensor_column, wall_gauges, Gauge, Observer,
     RunCheckpoint, RunPlan, RunResult, RunStatus,

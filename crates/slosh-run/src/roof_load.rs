@@ -80,23 +80,40 @@ pub const IMPACT_MIN_IMPULSE: f64 = 0.01;
 /// (ω·h ≤ 0.1): the trapezoidal rule's period error is (ωh)²/12 ≤ 0.08 %.
 const MAX_OMEGA_STEP: f64 = 0.1;
 
-/// A pressure sensor on the roof: a disc (3D) or a segment (2D) centred below a horizontal
-/// position, as an experiment's transducer.
+/// A pressure transducer of finite face, as an experiment's: a disc (3D) or a segment (2D)
+/// flush with the roof or with a wall, reading the area-weighted mean pressure of the load
+/// points on its face.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct RoofSensor {
+pub struct PressureSensor {
     /// Name (series column `p_<name>`).
     pub name: String,
     /// Horizontal position of its centre (x in 2D; x, y in 3D) (m).
     pub horizontal: Vec<f64>,
     /// Diameter (3D) or length (2D) (m).
     pub diameter: f64,
+    /// Height of its centre (m) for a sensor on a wall: its face is centred on the wall
+    /// point (`horizontal`, `height`) and lies in that wall. `None`: on the roof, centred
+    /// above `horizontal`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<f64>,
+}
+
+impl PressureSensor {
+    /// The sensor's kind as scripts name it: `roof_sensor` or `wall_sensor`.
+    pub fn kind(&self) -> &'static str {
+        if self.height.is_some() {
+            "wall_sensor"
+        } else {
+            "roof_sensor"
+        }
+    }
 }
 
 /// What a run measures of the roof load beyond the part totals.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RoofLoadPlan {
-    /// Pressure sensors on the roof.
-    pub sensors: Vec<RoofSensor>,
+    /// Pressure sensors on the roof and on walls.
+    pub sensors: Vec<PressureSensor>,
     /// Damping ratio ζ_r of the roof oscillator (1).
     pub damping_ratio: f64,
     /// Roof periods T_r at which F_eq is reported (s).
@@ -268,6 +285,148 @@ fn roof_part<const D: usize>(sim: &Simulation<D>) -> Option<u16> {
         .map(|k| k as u16)
 }
 
+/// The roof load points on a roof sensor's face and their areas (m²; 2D m): 2D, each roof
+/// point stands for a patch of the roof whose horizontal extent is its length times |n_z|, and
+/// counts with the part of that patch on the sensor's segment, so that the sensor covers the
+/// same length at every resolution; 3D, a point whose centre is on the disc counts with its
+/// whole area, and a disc narrower than the spacing reads the nearest roof point within one
+/// spacing of its centre.
+fn roof_sensor_points<const D: usize>(
+    sim: &Simulation<D>,
+    roof: &[(usize, f64)],
+    s: &PressureSensor,
+) -> Result<Vec<(usize, f64)>, String> {
+    let loads = sim.loads();
+    let radius = 0.5 * s.diameter;
+    let mut on: Vec<(usize, f64)> = roof
+        .iter()
+        .filter_map(|&(k, _)| {
+            let p = loads.positions()[k];
+            let area = loads.areas()[k];
+            if D == 2 {
+                let half = 0.5 * area * loads.normals()[k][D - 1].abs();
+                let segment = (s.horizontal[0] - radius, s.horizontal[0] + radius);
+                segment_overlap(area, p[0], half, segment).map(|a| (k, a))
+            } else {
+                let d2: f64 = (0..D - 1).map(|a| (p[a] - s.horizontal[a]).powi(2)).sum();
+                (d2.sqrt() <= radius).then_some((k, area))
+            }
+        })
+        .collect();
+    if on.is_empty() && D == 3 {
+        let distance = |k: usize| -> f64 {
+            let p = loads.positions()[k];
+            (0..D - 1)
+                .map(|a| (p[a] - s.horizontal[a]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        };
+        if let Some(k) = roof
+            .iter()
+            .map(|&(k, _)| k)
+            .min_by(|&a, &b| distance(a).total_cmp(&distance(b)))
+            .filter(|&k| distance(k) <= sim.spacing())
+        {
+            on.push((k, loads.areas()[k]));
+        }
+    }
+    if on.is_empty() {
+        return Err(if roof.is_empty() {
+            format!(
+                "roof_sensor \"{}\": the tank has no roof to put it on",
+                s.name
+            )
+        } else {
+            format!(
+                "roof_sensor \"{}\" at {:?} (diameter {} m) covers no point of the roof: put \
+                 its centre below the roof, inside the tank",
+                s.name, s.horizontal, s.diameter
+            )
+        });
+    }
+    Ok(on)
+}
+
+/// The area of a load point of area `area` standing for the patch [c − half, c + half] of a
+/// 2D wall that lies on the segment [from, to] (m), `None` when they do not overlap.
+fn segment_overlap(area: f64, c: f64, half: f64, (from, to): (f64, f64)) -> Option<f64> {
+    let lo = (c - half).max(from);
+    let hi = (c + half).min(to);
+    (hi > lo && half > 0.0).then(|| area * (hi - lo) / (2.0 * half))
+}
+
+/// Largest distance (in particle spacings) from a wall sensor's centre to the nearest wall
+/// face: a centre off the wall by more is a mistake in the script, not a sensor.
+const WALL_SENSOR_REACH_SPACINGS: f64 = 1.0;
+
+/// The load points on a wall sensor's face and their areas (m²; 2D m). The face is the wall
+/// of the load point nearest to the sensor's centre (`horizontal`, `height`): the load points
+/// whose wall faces (half a spacing inside their particles, along −n) lie in that wall's
+/// plane within half a spacing and whose normals are within 25° of its normal. 2D, each counts
+/// with the part of its length on the sensor's segment along the wall (as a roof sensor's);
+/// 3D, a point whose face centre is on the disc counts with its whole area, and a disc
+/// narrower than the spacing reads the nearest point. Any part (walls, bottom, roof, solids)
+/// can carry one.
+fn wall_sensor_points<const D: usize>(
+    sim: &Simulation<D>,
+    s: &PressureSensor,
+    height: f64,
+) -> Result<Vec<(usize, f64)>, String> {
+    let loads = sim.loads();
+    let spacing = sim.spacing();
+    let mut centre = slosh_core::Vector::<D>::zeros();
+    for (a, x) in s.horizontal.iter().enumerate() {
+        centre[a] = *x;
+    }
+    centre[D - 1] = height;
+    let face = |k: usize| loads.positions()[k] - loads.normals()[k] * (0.5 * spacing);
+    let Some((nearest, distance)) = (0..loads.len())
+        .map(|k| (k, (face(k) - centre).norm()))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+    else {
+        return Err(format!("wall_sensor \"{}\": the tank has no walls", s.name));
+    };
+    if distance > WALL_SENSOR_REACH_SPACINGS * spacing {
+        let f = face(nearest);
+        return Err(format!(
+            "wall_sensor \"{}\" at {:?} is {distance:.4} m from the nearest wall face (at \
+             {:?}, part {}): put its centre on a wall of the tank, within one particle spacing \
+             ({spacing} m)",
+            s.name,
+            centre.as_slice(),
+            f.as_slice(),
+            sim.part_names()
+                .get(loads.parts()[nearest] as usize)
+                .map_or("?", String::as_str),
+        ));
+    }
+    let n0 = loads.normals()[nearest];
+    let radius = 0.5 * s.diameter;
+    let same_face = |k: usize| {
+        loads.normals()[k].dot(&n0) > 25f64.to_radians().cos()
+            && (face(k) - centre).dot(&n0).abs() <= 0.5 * spacing
+    };
+    let mut on: Vec<(usize, f64)> = (0..loads.len())
+        .filter(|&k| same_face(k))
+        .filter_map(|k| {
+            let d = face(k) - centre;
+            let area = loads.areas()[k];
+            if D == 2 {
+                // Along the wall: the tangent (n_z, −n_x) of the section.
+                let along = d[0] * n0[D - 1] - d[D - 1] * n0[0];
+                segment_overlap(area, along, 0.5 * area, (-radius, radius)).map(|a| (k, a))
+            } else {
+                let in_plane = d - n0 * d.dot(&n0);
+                (in_plane.norm() <= radius).then_some((k, area))
+            }
+        })
+        .collect();
+    if on.is_empty() {
+        on.push((nearest, loads.areas()[nearest]));
+    }
+    Ok(on)
+}
+
 impl RoofLoadMonitor {
     /// The roof points of `sim` and the sensors of `plan`. A sensor that covers no roof load
     /// point, or is declared in a tank without a roof, is an error (its message names it).
@@ -278,80 +437,33 @@ impl RoofLoadMonitor {
             .filter(|&k| Some(loads.parts()[k]) == roof_id)
             .map(|k| (k, loads.areas()[k] * loads.normals()[k][D - 1]))
             .collect();
+        // Folded from +0: an open tank's plan area is 0, not the −0 of an empty f64 sum.
         let plan_area = roof
             .iter()
             .map(|&(k, _)| loads.areas()[k] * loads.normals()[k][D - 1].abs())
-            .sum();
+            .fold(0.0, |a, x| a + x);
         let mut sensors = Vec::new();
         let mut sensor_area = Vec::new();
         for s in &plan.sensors {
-            if s.horizontal.len() + 1 != D {
+            let kind = s.kind();
+            let coordinates = s.horizontal.len() + usize::from(s.height.is_some());
+            let wanted = if s.height.is_some() { D } else { D - 1 };
+            if coordinates != wanted {
                 return Err(format!(
-                    "roof_sensor \"{}\" gives {} horizontal coordinate(s) for a {D}D tank",
-                    s.name,
-                    s.horizontal.len()
+                    "{kind} \"{}\" gives {coordinates} coordinate(s) for a {D}D tank (wants {wanted})",
+                    s.name
                 ));
             }
             if !(s.diameter.is_finite() && s.diameter > 0.0) {
                 return Err(format!(
-                    "roof_sensor \"{}\": the diameter must be > 0 m (got {})",
+                    "{kind} \"{}\": the diameter must be > 0 m (got {})",
                     s.name, s.diameter
                 ));
             }
-            let radius = 0.5 * s.diameter;
-            // 2D: each roof point stands for a patch of the roof whose horizontal extent is
-            // its length times |n_z|; its weight is the part of that patch on the sensor's
-            // segment, so that the sensor covers the same length at every resolution. 3D: a
-            // point whose centre is on the disc counts with its whole area.
-            let mut on: Vec<(usize, f64)> = roof
-                .iter()
-                .filter_map(|&(k, _)| {
-                    let p = loads.positions()[k];
-                    let area = loads.areas()[k];
-                    if D == 2 {
-                        let half = 0.5 * area * loads.normals()[k][D - 1].abs();
-                        let lo = (p[0] - half).max(s.horizontal[0] - radius);
-                        let hi = (p[0] + half).min(s.horizontal[0] + radius);
-                        (hi > lo && half > 0.0).then(|| (k, area * (hi - lo) / (2.0 * half)))
-                    } else {
-                        let d2: f64 = (0..D - 1).map(|a| (p[a] - s.horizontal[a]).powi(2)).sum();
-                        (d2.sqrt() <= radius).then_some((k, area))
-                    }
-                })
-                .collect();
-            if on.is_empty() && D == 3 {
-                // A disc narrower than the spacing reads the nearest roof point within one
-                // spacing of its centre.
-                let distance = |k: usize| -> f64 {
-                    let p = loads.positions()[k];
-                    (0..D - 1)
-                        .map(|a| (p[a] - s.horizontal[a]).powi(2))
-                        .sum::<f64>()
-                        .sqrt()
-                };
-                if let Some(k) = roof
-                    .iter()
-                    .map(|&(k, _)| k)
-                    .min_by(|&a, &b| distance(a).total_cmp(&distance(b)))
-                    .filter(|&k| distance(k) <= sim.spacing())
-                {
-                    on.push((k, loads.areas()[k]));
-                }
-            }
-            if on.is_empty() {
-                return Err(if roof.is_empty() {
-                    format!(
-                        "roof_sensor \"{}\": the tank has no roof to put it on",
-                        s.name
-                    )
-                } else {
-                    format!(
-                        "roof_sensor \"{}\" at {:?} (diameter {} m) covers no point of the \
-                         roof: put its centre below the roof, inside the tank",
-                        s.name, s.horizontal, s.diameter
-                    )
-                });
-            }
+            let on = match s.height {
+                None => roof_sensor_points(sim, &roof, s)?,
+                Some(height) => wall_sensor_points(sim, s, height)?,
+            };
             let area: f64 = on.iter().map(|(_, a)| a).sum();
             sensor_area.push(area);
             sensors.push(on.into_iter().map(|(k, a)| (k, a / area)).collect());
@@ -385,6 +497,12 @@ impl RoofLoadMonitor {
         !self.roof.is_empty()
     }
 
+    /// True when the monitor measures anything: a roof, or pressure sensors (a wall sensor
+    /// works in an open tank too).
+    pub fn measures(&self) -> bool {
+        self.has_roof() || !self.sensors.is_empty()
+    }
+
     /// The sensors' areas (m²; 2D m), in declaration order.
     pub fn sensor_areas(&self) -> &[f64] {
         &self.sensor_area
@@ -404,7 +522,7 @@ impl RoofLoadMonitor {
     pub fn after_step<const D: usize>(&mut self, sim: &Simulation<D>) {
         let loads = sim.loads();
         let (recorded, time) = (loads.recorded_steps(), loads.latest_time());
-        if self.roof.is_empty() || recorded == self.seen {
+        if !self.measures() || recorded == self.seen {
             return;
         }
         self.seen = recorded;
@@ -441,7 +559,7 @@ impl RoofLoadMonitor {
     /// Closes an output row at time `time` (s): keeps the cumulative impulse and the largest
     /// load and design-period F_eq since the previous row.
     pub fn cut_row(&mut self, time: f64) {
-        if self.roof.is_empty() {
+        if !self.measures() {
             return;
         }
         let mut cut = RowCut {
@@ -466,7 +584,7 @@ impl RoofLoadMonitor {
         &self,
         tank: &crate::roof::RoofTank,
         spacing: f64,
-        sensors: &[RoofSensor],
+        sensors: &[PressureSensor],
     ) -> RoofLoadResult {
         let periods = spectrum_periods();
         let n_spec = periods.len();
@@ -486,7 +604,7 @@ impl RoofLoadMonitor {
                 dlf: all[n_spec..].iter().map(|&f| dlf(f)).collect(),
             }
         };
-        let roof = self.channels.first().map(load);
+        let roof = self.has_roof().then(|| load(&self.channels[0]));
         let sensor_loads: Vec<SensorLoad> = sensors
             .iter()
             .zip(self.channels.iter().skip(1))
@@ -628,7 +746,7 @@ pub struct ChannelLoad {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct SensorLoad {
     /// The sensor as declared.
-    pub sensor: RoofSensor,
+    pub sensor: PressureSensor,
     /// The area of the roof points on it (m²; 2D m).
     pub area: f64,
     /// Its mean pressure's peak, impulse and response.

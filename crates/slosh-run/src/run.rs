@@ -761,18 +761,20 @@ where
     if plan.frame_interval > 0.0 && matches!(result.status, RunStatus::Finished) {
         observer.frame(sim, sim.time())?;
     }
-    if result.roof.has_roof() && roof_load.has_roof() {
+    if roof_load.measures() {
         let loads = roof_load.result(&plan.roof_tank, sim.spacing(), &plan.roof_load.sensors);
-        let column = |name: &str| result.column(name).unwrap_or_default();
-        result.impacts = find_impacts(
-            &loads,
-            column("t"),
-            column("roof_force_up"),
-            column("roof_p_max"),
-            column("crest_vz"),
-            column("roof_contact_extent"),
-            &plan.roof_tank,
-        );
+        if result.roof.has_roof() && roof_load.has_roof() {
+            let column = |name: &str| result.column(name).unwrap_or_default();
+            result.impacts = find_impacts(
+                &loads,
+                column("t"),
+                column("roof_force_up"),
+                column("roof_p_max"),
+                column("crest_vz"),
+                column("roof_contact_extent"),
+                &plan.roof_tank,
+            );
+        }
         result.roof_load = Some(loads);
     }
     Ok(result)

@@ -6,7 +6,9 @@ use crate::engine::{build_engine, Declared, Globals, PlotRequest, Shared};
 use crate::error::ScriptError;
 use crate::params::{ParamDecl, ParamValue};
 use crate::sandbox::ReadSandbox;
-use crate::spec::{numerics_from_map, GaugeSpec, Resolution, RoofSensorSpec, RunSpec, TankSpec};
+use crate::spec::{
+    numerics_from_map, GaugeSpec, PressureSensorSpec, Resolution, RunSpec, TankSpec,
+};
 use rhai::{CallFnOptions, Dynamic, Engine, Map, Scope, AST};
 use slosh_core::SphParams;
 use std::path::{Path, PathBuf};
@@ -431,7 +433,7 @@ pub struct Case {
     /// Extra wave gauges.
     pub gauges: Vec<GaugeSpec>,
     /// Pressure sensors on the roof.
-    pub roof_sensors: Vec<RoofSensorSpec>,
+    pub pressure_sensors: Vec<PressureSensorSpec>,
     /// Script functions for the run.
     pub excitation: Excitation,
     /// Ground-motion records the script read (for `summary.ron`).
@@ -659,12 +661,18 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
             )));
         }
     }
-    for g in &d.roof_sensors {
-        if g.horizontal.len() + 1 != tank.dim() {
+    for g in &d.pressure_sensors {
+        let coordinates = g.horizontal.len() + usize::from(g.height.is_some());
+        let wanted = if g.height.is_some() {
+            tank.dim()
+        } else {
+            tank.dim() - 1
+        };
+        if coordinates != wanted {
             return Err(err(format!(
-                "roof_sensor \"{}\" gives {} horizontal coordinate(s) for a {}D tank",
+                "{} \"{}\" gives {coordinates} coordinate(s) for a {}D tank (wants {wanted})",
+                g.kind(),
                 g.name,
-                g.horizontal.len(),
                 tank.dim()
             )));
         }
@@ -712,7 +720,7 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
     };
     let params = d.params.clone();
     let gauges = d.gauges.clone();
-    let roof_sensors = d.roof_sensors.clone();
+    let pressure_sensors = d.pressure_sensors.clone();
     let motions = d.motions.lock().expect("motion log").clone();
     drop(d);
     let mut warnings = checks::record_coverage(path, &motions, &run)?;
@@ -735,7 +743,7 @@ pub fn load_case(path: &Path, options: &CaseOptions) -> Result<Case, ScriptError
         resolution,
         run,
         gauges,
-        roof_sensors,
+        pressure_sensors,
         motions,
         sandbox: (*sandbox).clone(),
         warnings,

@@ -2,7 +2,7 @@
 
 use crate::params::{split_unit, trailing_comment, ParamDecl, ParamValue};
 use crate::sandbox::ReadSandbox;
-use crate::spec::{dynamic_to_f64, GaugeSpec, RoofSensorSpec};
+use crate::spec::{dynamic_to_f64, GaugeSpec, PressureSensorSpec};
 use rhai::{Dynamic, Engine, EvalAltResult, Map, NativeCallContext, Position};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -28,7 +28,7 @@ pub(crate) struct Declared {
     /// Extra wave gauges.
     pub gauges: Vec<GaugeSpec>,
     /// Pressure sensors on the roof.
-    pub roof_sensors: Vec<RoofSensorSpec>,
+    pub pressure_sensors: Vec<PressureSensorSpec>,
     /// Extra files written by `post` (name → rows).
     pub tables: Vec<(String, Vec<String>, Vec<Vec<f64>>)>,
     /// Line plots requested by `post`.
@@ -202,7 +202,7 @@ pub(crate) fn build_engine(
         "roof_sensor",
         move |name: &str, x: Dynamic, diameter: Dynamic| -> Result<(), Box<EvalAltResult>> {
             match (dynamic_to_f64(&x), dynamic_to_f64(&diameter)) {
-                (Some(x), Some(d)) => add_roof_sensor(&s, name, vec![x], d),
+                (Some(x), Some(d)) => add_sensor(&s, name, vec![x], None, d),
                 _ => Err(runtime_error(
                     "roof_sensor: x and the length must be numbers",
                 )),
@@ -222,9 +222,53 @@ pub(crate) fn build_engine(
                 dynamic_to_f64(&y),
                 dynamic_to_f64(&diameter),
             ) {
-                (Some(x), Some(y), Some(d)) => add_roof_sensor(&s, name, vec![x, y], d),
+                (Some(x), Some(y), Some(d)) => add_sensor(&s, name, vec![x, y], None, d),
                 _ => Err(runtime_error(
                     "roof_sensor: x, y and the diameter must be numbers",
+                )),
+            }
+        },
+    );
+    let s = shared.clone();
+    engine.register_fn(
+        "wall_sensor",
+        move |name: &str,
+              x: Dynamic,
+              z: Dynamic,
+              length: Dynamic|
+              -> Result<(), Box<EvalAltResult>> {
+            match (
+                dynamic_to_f64(&x),
+                dynamic_to_f64(&z),
+                dynamic_to_f64(&length),
+            ) {
+                (Some(x), Some(z), Some(d)) => add_sensor(&s, name, vec![x], Some(z), d),
+                _ => Err(runtime_error(
+                    "wall_sensor: x, z and the length must be numbers",
+                )),
+            }
+        },
+    );
+    let s = shared.clone();
+    engine.register_fn(
+        "wall_sensor",
+        move |name: &str,
+              x: Dynamic,
+              y: Dynamic,
+              z: Dynamic,
+              diameter: Dynamic|
+              -> Result<(), Box<EvalAltResult>> {
+            match (
+                dynamic_to_f64(&x),
+                dynamic_to_f64(&y),
+                dynamic_to_f64(&z),
+                dynamic_to_f64(&diameter),
+            ) {
+                (Some(x), Some(y), Some(z), Some(d)) => {
+                    add_sensor(&s, name, vec![x, y], Some(z), d)
+                }
+                _ => Err(runtime_error(
+                    "wall_sensor: x, y, z and the diameter must be numbers",
                 )),
             }
         },
@@ -370,38 +414,49 @@ fn add_gauge(s: &Shared, name: &str, horizontal: Vec<f64>) -> Result<(), Box<Eva
     Ok(())
 }
 
-fn add_roof_sensor(
+/// Declares a pressure sensor: on the roof above `horizontal` (`height` None, `roof_sensor`)
+/// or on a wall at (`horizontal`, `height`) (`wall_sensor`). Roof and wall sensors share one
+/// list of names (each becomes the column `p_<name>`).
+fn add_sensor(
     s: &Shared,
     name: &str,
     horizontal: Vec<f64>,
+    height: Option<f64>,
     diameter: f64,
 ) -> Result<(), Box<EvalAltResult>> {
+    let kind = if height.is_some() {
+        "wall_sensor"
+    } else {
+        "roof_sensor"
+    };
     if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
         return Err(runtime_error(format!(
-            "roof_sensor name \"{name}\" must be letters, digits or _ (it becomes the column \
+            "{kind} name \"{name}\" must be letters, digits or _ (it becomes the column \
              p_{name})"
         )));
     }
-    if horizontal.iter().any(|x| !x.is_finite()) {
+    if horizontal.iter().chain(&height).any(|x| !x.is_finite()) {
+        let position: Vec<f64> = horizontal.iter().chain(&height).copied().collect();
         return Err(runtime_error(format!(
-            "roof_sensor \"{name}\": its position must be finite numbers (got {horizontal:?})"
+            "{kind} \"{name}\": its position must be finite numbers (got {position:?})"
         )));
     }
     if !(diameter.is_finite() && diameter > 0.0) {
         return Err(runtime_error(format!(
-            "roof_sensor \"{name}\": the diameter (2D: length) must be > 0 m (got {diameter})"
+            "{kind} \"{name}\": the diameter (2D: length) must be > 0 m (got {diameter})"
         )));
     }
     let mut d = s.lock().map_err(|_| runtime_error("internal lock"))?;
-    if d.roof_sensors.iter().any(|g| g.name == name) {
+    if d.pressure_sensors.iter().any(|g| g.name == name) {
         return Err(runtime_error(format!(
-            "roof_sensor \"{name}\" is declared twice"
+            "{kind} \"{name}\": a sensor of that name is already declared"
         )));
     }
-    d.roof_sensors.push(RoofSensorSpec {
+    d.pressure_sensors.push(PressureSensorSpec {
         name: name.to_string(),
         horizontal,
         diameter,
+        height,
     });
     Ok(())
 }

@@ -36,6 +36,6 @@ pub use motion_api::MotionInfo;
 pub use params::{parse_set_value, parse_sets, ParamDecl, ParamValue, SetArgumentError};
 pub use sandbox::{ReadSandbox, PROJECT_MARKER};
 pub use spec::{
-    GaugeSpec, MeshExtent, Resolution, RoofSensorSpec, RunSpec, SectionOutlineSpec,
+    GaugeSpec, MeshExtent, PressureSensorSpec, Resolution, RunSpec, SectionOutlineSpec,
     SectionRoofSpec, TankSpec, DEFAULT_ROOF_DAMPING, DEFAULT_ROOF_PERIODS,
 };

@@ -1400,7 +1400,7 @@ pub const MAX_ROOF_PERIODS: usize = 32;
 
 pub use slosh_run::roof_load::{DEFAULT_ROOF_DAMPING, DEFAULT_ROOF_PERIODS};
 /// A pressure sensor on the roof, as the run loop measures it.
-pub use slosh_run::RoofSensor as RoofSensorSpec;
+pub use slosh_run::PressureSensor as PressureSensorSpec;
 
 /// An extra wave gauge: the free-surface elevation on a vertical line.
 #[derive(Clone, Debug, Serialize)]

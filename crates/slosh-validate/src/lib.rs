@@ -475,6 +475,10 @@ pub fn run_validation(opts: &ValidateOptions) -> Result<ValidationReport> {
             one(impacts::GROUP, impacts::roof_impact),
         ),
         (
+            "impact pressure against experiment: SPHERIC Test 10 lateral impact",
+            one(impacts::LATERAL_GROUP, impacts::lateral_impact),
+        ),
+        (
             "shipped scripts: the paper's §3.1 case",
             one(scripts::PAPER_CASE, scripts::paper_case),
         ),
