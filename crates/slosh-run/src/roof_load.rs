@@ -11,7 +11,9 @@
 //!   the roof load spectrum, and F_eq / max|F| the dynamic load factor;
 //! - **impacts** as contact episodes of the roof force with thresholds relative to the tank's
 //!   freeboard head ρ g H′ over the roof's plan area and a merge rule tied to the sloshing
-//!   period, so that one particle touching the roof is not an impact;
+//!   period, so that one particle touching the roof is not an impact; an episode too small for
+//!   the whole roof is still an impact when a sensor on the roof takes the same impulse per
+//!   area (a local impact on an instrumented panel);
 //! - **statistics** of the impacts (median, 84th percentile, maximum).
 
 use serde::{Deserialize, Serialize};
@@ -74,7 +76,9 @@ pub const IMPACT_OFF: f64 = 0.01;
 /// (a crest that bounces on the roof); crests at opposite walls come half a period apart.
 pub const IMPACT_MERGE: f64 = 0.25;
 /// Episodes whose impulse is below this fraction of F_ref·T₁ are splashes, not impacts (a
-/// crest one freeboard high pressing on the whole roof for 1 % of a period).
+/// crest one freeboard high pressing on the whole roof for 1 % of a period), unless a sensor
+/// on the roof takes that impulse per area, ρ g H′ T₁ / 100 (a local impact on the panel it
+/// instruments).
 pub const IMPACT_MIN_IMPULSE: f64 = 0.01;
 /// Largest step of the oscillator's integration as a fraction of its period over 2π
 /// (ω·h ≤ 0.1): the trapezoidal rule's period error is (ωh)²/12 ≤ 0.08 %.
@@ -267,6 +271,10 @@ pub struct RoofLoadMonitor {
     sensors: Vec<Vec<(usize, f64)>>,
     /// Sensor areas (m²; 2D m).
     sensor_area: Vec<f64>,
+    /// Whether each sensor's face lies on the roof (a roof panel the impacts are also found
+    /// on); absent in checkpoints written before it, which then count no sensor.
+    #[serde(default)]
+    sensor_on_roof: Vec<bool>,
     /// Roof plan area Σ A |n_z| (m²; 2D m).
     plan_area: f64,
     channels: Vec<Channel>,
@@ -444,6 +452,7 @@ impl RoofLoadMonitor {
             .fold(0.0, |a, x| a + x);
         let mut sensors = Vec::new();
         let mut sensor_area = Vec::new();
+        let mut sensor_on_roof = Vec::new();
         for s in &plan.sensors {
             let kind = s.kind();
             let coordinates = s.horizontal.len() + usize::from(s.height.is_some());
@@ -465,6 +474,7 @@ impl RoofLoadMonitor {
                 Some(height) => wall_sensor_points(sim, s, height)?,
             };
             let area: f64 = on.iter().map(|(_, a)| a).sum();
+            sensor_on_roof.push(on.iter().all(|&(k, _)| Some(loads.parts()[k]) == roof_id));
             sensor_area.push(area);
             sensors.push(on.into_iter().map(|(k, a)| (k, a / area)).collect());
         }
@@ -483,6 +493,7 @@ impl RoofLoadMonitor {
             roof,
             sensors,
             sensor_area,
+            sensor_on_roof,
             plan_area,
             channels,
             rows: Vec::new(),
@@ -667,6 +678,17 @@ impl RoofLoadMonitor {
             }
         }
         let min_impulse = IMPACT_MIN_IMPULSE * reference_force * period_1;
+        // The same rule per area on a roof panel a sensor instruments: the freeboard head on
+        // its face for 1 % of a period (a local impact the whole roof's force calls a splash).
+        let min_panel_impulse = if self.plan_area > 0.0 {
+            min_impulse / self.plan_area
+        } else {
+            f64::INFINITY
+        };
+        let roof_sensor_channels: Vec<usize> = (0..self.sensor_on_roof.len())
+            .filter(|&s| self.sensor_on_roof[s])
+            .map(|s| s + 1)
+            .collect();
         let n_channels = self.channels.len();
         let mut episodes: Vec<Episode> = spans
             .iter()
@@ -682,7 +704,12 @@ impl RoofLoadMonitor {
                 f_eq: Vec::new(),
                 rows: (a, b),
             })
-            .filter(|e| e.impulse[0] >= min_impulse)
+            .filter(|e| {
+                e.impulse[0] >= min_impulse
+                    || roof_sensor_channels
+                        .iter()
+                        .any(|&c| e.impulse[c] >= min_panel_impulse)
+            })
             .collect();
         // The roof rings on after the contact: its F_eq is the largest response from the
         // start of the episode to the start of the next one (or the end of the run).
@@ -919,6 +946,80 @@ mod tests {
         assert!(
             (feq / expected - 1.0).abs() < 0.01,
             "{feq} against {expected}"
+        );
+    }
+
+    /// A monitor of a roof of plan area 1 m² and one sensor, whose output rows (every 10 ms)
+    /// hold the cumulative impulses of a roof force `force`(t) (N) and a sensor pressure
+    /// `pressure`(t) (Pa), constant over each row.
+    fn monitor_with_rows(
+        sensor_on_roof: bool,
+        force: impl Fn(f64) -> f64,
+        pressure: impl Fn(f64) -> f64,
+    ) -> RoofLoadMonitor {
+        let channel = || Channel {
+            bank: OscillatorBank::new(&[], DEFAULT_ROOF_DAMPING),
+            impulse: 0.0,
+            peak: 0.0,
+            t_peak: 0.0,
+            interval_peak: 0.0,
+        };
+        let mut m = RoofLoadMonitor {
+            roof: Vec::new(),
+            sensors: vec![Vec::new()],
+            sensor_area: vec![0.05],
+            sensor_on_roof: vec![sensor_on_roof],
+            plan_area: 1.0,
+            channels: vec![channel(), channel()],
+            rows: Vec::new(),
+            seen: 0,
+            design_periods: Vec::new(),
+            damping_ratio: DEFAULT_ROOF_DAMPING,
+        };
+        let (mut impulse_f, mut impulse_p) = (0.0, 0.0);
+        for r in 0..=300 {
+            let t = r as f64 * 0.01;
+            if r > 0 {
+                impulse_f += force(t) * 0.01;
+                impulse_p += pressure(t) * 0.01;
+            }
+            m.rows.push(RowCut {
+                time: t,
+                impulse: vec![impulse_f, impulse_p],
+                peak: vec![force(t), pressure(t)],
+                f_eq: vec![Vec::new(), Vec::new()],
+            });
+        }
+        m
+    }
+
+    /// With F_ref = 100 N and T₁ = 1 s: a contact of 5 N for 0.1 s (0.5 N·s, under the 1 N·s
+    /// of 1 % F_ref T₁) is a splash for the whole roof, but an impact when a sensor on the roof
+    /// takes 50 Pa over it (5 Pa·s, over the 1 Pa·s of 1 % ρ g H′ T₁ per area); a sensor on a
+    /// wall does not count; a contact of 50 N for 0.1 s is an impact with no sensor.
+    #[test]
+    fn a_local_impact_on_an_instrumented_roof_panel_is_an_impact() {
+        let window = |t: f64| (1.0..1.1).contains(&(t - 1e-9));
+        let small = |t: f64| if window(t) { 5.0 } else { 0.0 };
+        let local = |t: f64| if window(t) { 50.0 } else { 0.0 };
+        let on_roof = monitor_with_rows(true, small, local);
+        let episodes = on_roof.episodes(100.0, 1.0);
+        assert_eq!(episodes.len(), 1, "the panel's impact");
+        assert!(
+            (episodes[0].t_start - 1.0).abs() < 1e-9 && (episodes[0].impulse[1] - 5.0).abs() < 1e-9
+        );
+        assert!(monitor_with_rows(false, small, local)
+            .episodes(100.0, 1.0)
+            .is_empty());
+        assert!(monitor_with_rows(true, small, |_| 0.5)
+            .episodes(100.0, 1.0)
+            .is_empty());
+        let large = |t: f64| if window(t) { 50.0 } else { 0.0 };
+        assert_eq!(
+            monitor_with_rows(false, large, |_| 0.0)
+                .episodes(100.0, 1.0)
+                .len(),
+            1
         );
     }
 

@@ -291,7 +291,9 @@ pub fn study(ctx: &Context) -> GroupResult {
         !early.is_empty() && unmatched.is_empty(),
         &format!("±{tolerance:.3} s"),
         "an impact is a contact episode of the roof force above 2 % of ρ g H′ times the roof \
-         area (off below 1 %, merged within T₁/4), so a particle grazing the roof is none; the \
+         area (off below 1 %, merged within T₁/4; kept when its impulse reaches 1 % of \
+         ρ g H′ T₁ over the roof or per area on the corner sensor), so a particle grazing the \
+         roof is none; the \
          crest's arrival converges (its height before contact within 1 % between these \
          lattices), so the episodes it starts must too",
     ));
