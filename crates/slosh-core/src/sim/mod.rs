@@ -323,6 +323,11 @@ impl<const D: usize> Simulation<D> {
         domain_max[D - 1] += tank_height.max(depth); // splashes above an open tank
 
         let n = setup.fluid_positions.len();
+        // The stages of the run: they depend on the parameters and on the kind of search.
+        let plan = StepPlan::choose(
+            &params,
+            matches!(params.neighbour_backend, NeighbourBackend::CellGrid),
+        );
         let fluid = Fluid {
             position: setup.fluid_positions,
             velocity: vec![Vector::<D>::zeros(); n],
@@ -335,8 +340,16 @@ impl<const D: usize> Simulation<D> {
             strain_rate: vec![Tensor::<D>::zeros(); n],
             density_rate: vec![0.0; n],
             id: (0..n as u32).collect(),
-            // 2D: ≈ 21 neighbours within 2.6 dx; 3D: ≈ 74 (more in compressed or splashing flow).
-            neighbours: NeighbourLists::new(n, if D == 2 { 48 } else { 128 }),
+            // 2D: ≈ 21 neighbours within 2.6 dx; 3D: ≈ 74 (more in compressed or splashing
+            // flow); none when no pass of the plan lists them.
+            neighbours: NeighbourLists::new(
+                n,
+                match (plan.lists_neighbours(), D) {
+                    (false, _) => 0,
+                    (true, 2) => 48,
+                    (true, _) => 128,
+                },
+            ),
         };
         let walls = Walls {
             density: vec![params.rest_density; n_wall],
@@ -370,7 +383,6 @@ impl<const D: usize> Simulation<D> {
         let sort_grid = CellGrid::new(domain_min, domain_max, kernel.support(), &[]);
         let mut loads = LoadEvaluator::new(&walls, setup.part_names.len(), params.smoothing_steps);
         loads.set_roof_part(&setup.part_names);
-        let plan = StepPlan::choose(&params, matches!(search, Search::Grid(_)));
         let buffers = StageBuffers::new(&params, h, sound_speed, n, walls.position.len());
         let mut sim = Simulation {
             constants,
