@@ -21,7 +21,7 @@ const HEADER_BYTES: usize = 8 + 4 + 8 + 4;
 fn io_error(path: &Path, source: std::io::Error) -> IoError {
     IoError::Io {
         path: path.to_path_buf(),
-        source,
+        reason: source,
     }
 }
 

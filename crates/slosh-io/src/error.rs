@@ -4,53 +4,50 @@ use std::path::{Path, PathBuf};
 
 /// Anything that can go wrong while writing (or reading back) an output file.
 ///
-/// Every variant names the file it concerns, so a message can tell the user where to look.
+/// Every variant names the file it concerns, so a message can tell the user where to look,
+/// and carries the system's or the library's reason in its message (not also as a `source`,
+/// which an error chain would print a second time).
 #[derive(Debug, thiserror::Error)]
 pub enum IoError {
     /// The operating system refused a file operation (create, write, rename).
-    #[error("cannot write `{path}`: {source}")]
+    #[error("cannot write `{path}`: {reason}")]
     Io {
         /// The file or directory concerned.
         path: PathBuf,
         /// The underlying error.
-        #[source]
-        source: std::io::Error,
+        reason: std::io::Error,
     },
     /// The operating system refused to read a file (missing, unreadable).
-    #[error("cannot read `{path}`: {source}")]
+    #[error("cannot read `{path}`: {reason}")]
     Read {
         /// The file concerned.
         path: PathBuf,
         /// The underlying error.
-        #[source]
-        source: std::io::Error,
+        reason: std::io::Error,
     },
     /// The CSV writer failed.
-    #[error("cannot write CSV file `{path}`: {source}")]
+    #[error("cannot write CSV file `{path}`: {reason}")]
     Csv {
         /// The CSV file.
         path: PathBuf,
         /// The underlying error.
-        #[source]
-        source: csv::Error,
+        reason: csv::Error,
     },
     /// A value could not be serialised to RON.
-    #[error("cannot serialise `{path}` as RON: {source}")]
+    #[error("cannot serialise `{path}` as RON: {reason}")]
     RonSerialize {
         /// The RON file.
         path: PathBuf,
         /// The underlying error.
-        #[source]
-        source: ron::Error,
+        reason: ron::Error,
     },
     /// A RON file could not be parsed back.
-    #[error("cannot parse RON file `{path}`: {source}")]
+    #[error("cannot parse RON file `{path}`: {reason}")]
     RonParse {
         /// The RON file.
         path: PathBuf,
         /// The underlying error (with line and column).
-        #[source]
-        source: Box<ron::error::SpannedError>,
+        reason: Box<ron::error::SpannedError>,
     },
     /// The caller passed data of inconsistent shape (wrong row length, mismatched array
     /// lengths, duplicate column names, ...).
@@ -91,14 +88,14 @@ impl IoError {
     pub(crate) fn io(path: &Path, source: std::io::Error) -> Self {
         IoError::Io {
             path: path.to_path_buf(),
-            source,
+            reason: source,
         }
     }
 
     pub(crate) fn read(path: &Path, source: std::io::Error) -> Self {
         IoError::Read {
             path: path.to_path_buf(),
-            source,
+            reason: source,
         }
     }
 
@@ -175,4 +172,25 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         return Err(IoError::io(&tmp, e));
     }
     std::fs::rename(&tmp, path).map_err(|e| IoError::io(path, e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A full disk's error names the file and the system's reason once: the reason is in the
+    /// message and not also the error's source, which chain printers (`{:#}`) would append.
+    #[test]
+    fn the_reason_is_printed_once_in_an_error_chain() {
+        let e = IoError::io(
+            Path::new("out/series.csv"),
+            std::io::Error::from_raw_os_error(28),
+        );
+        let shown = e.to_string();
+        assert!(
+            shown.starts_with("cannot write `out/series.csv`: ") && shown.contains("(os error 28)"),
+            "{shown}"
+        );
+        assert!(std::error::Error::source(&e).is_none());
+    }
 }

@@ -289,7 +289,7 @@ impl Drop for TableWriter {
 fn csv_err(path: &Path, source: csv::Error) -> IoError {
     IoError::Csv {
         path: path.to_path_buf(),
-        source,
+        reason: source,
     }
 }
 

@@ -15,7 +15,7 @@ pub fn write_ron<T: Serialize + ?Sized>(path: impl AsRef<Path>, value: &T) -> Re
     let mut text =
         ron::ser::to_string_pretty(value, config).map_err(|source| IoError::RonSerialize {
             path: path.to_path_buf(),
-            source,
+            reason: source,
         })?;
     text.push('\n');
     write_atomic(path, text.as_bytes())
@@ -35,7 +35,7 @@ pub fn overwrite_ron_in_place<T: Serialize + ?Sized>(
         ron::ser::to_string_pretty(value, ron::ser::PrettyConfig::new()).map_err(|source| {
             IoError::RonSerialize {
                 path: path.to_path_buf(),
-                source,
+                reason: source,
             }
         })?;
     text.push('\n');
@@ -61,6 +61,6 @@ pub fn read_ron<T: DeserializeOwned>(path: impl AsRef<Path>) -> Result<T> {
     let text = std::fs::read_to_string(path).map_err(|e| IoError::read(path, e))?;
     ron::from_str(&text).map_err(|source| IoError::RonParse {
         path: path.to_path_buf(),
-        source: Box::new(source),
+        reason: Box::new(source),
     })
 }
