@@ -533,28 +533,15 @@ pub fn record_output(out: &Path, rel_stem: &str) -> Result<()> {
 /// Opens `path` for writing (appending when `append`, otherwise keeping its contents), creating
 /// it when missing, never through a link (`O_NOFOLLOW`: a link there is an error).
 fn open_no_follow(path: &Path, append: bool) -> std::io::Result<std::fs::File> {
-    let mut options = std::fs::OpenOptions::new();
-    options
-        .read(!append)
-        .write(true)
-        .append(append)
-        .create(true)
-        .truncate(false);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        options.custom_flags(libc::O_NOFOLLOW);
-    }
-    options.open(path).map_err(|e| {
-        if e.raw_os_error() == Some(libc::ELOOP) {
-            std::io::Error::other(format!(
-                "{} is a link; slosh writes no file through a link",
-                path.display()
-            ))
-        } else {
-            e
-        }
-    })
+    slosh_io::open_no_follow(
+        path,
+        std::fs::OpenOptions::new()
+            .read(!append)
+            .write(true)
+            .append(append)
+            .create(true)
+            .truncate(false),
+    )
 }
 
 #[cfg(test)]

@@ -33,7 +33,6 @@ use serde::Deserialize;
 use slosh_script::{list_params_with, load_case, parse_set_value, CaseOptions, ParamValue};
 use std::collections::HashMap;
 use std::fmt;
-use std::os::unix::fs::OpenOptionsExt;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -1242,14 +1241,14 @@ fn run_child(
         let _ = std::fs::remove_file(&summary_path);
     }
     let log_path = p.dir.join("run.log");
-    let log = match std::fs::OpenOptions::new()
-        .create(true)
-        .append(resumable)
-        .write(true)
-        .truncate(!resumable)
-        .custom_flags(libc::O_NOFOLLOW)
-        .open(&log_path)
-    {
+    let log = match slosh_io::open_no_follow(
+        &log_path,
+        std::fs::OpenOptions::new()
+            .create(true)
+            .append(resumable)
+            .write(true)
+            .truncate(!resumable),
+    ) {
         Ok(f) => f,
         Err(e) => return fail(format!("cannot create {}: {e}", log_path.display()), None),
     };

@@ -139,6 +139,31 @@ pub fn create_fresh(path: &Path) -> std::io::Result<std::fs::File> {
         .open(path)
 }
 
+/// Opens `path` with `options`, never through a link: the last component is opened with
+/// `O_NOFOLLOW`, so a link there (even one planted after a check) is an error that says so.
+/// The one place that opens an existing file of a run folder for writing (the case's lock and
+/// log, a summary overwritten in place).
+pub fn open_no_follow(
+    path: &Path,
+    options: &mut std::fs::OpenOptions,
+) -> std::io::Result<std::fs::File> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(libc::O_NOFOLLOW);
+    }
+    options.open(path).map_err(|e| {
+        #[cfg(unix)]
+        if e.raw_os_error() == Some(libc::ELOOP) {
+            return std::io::Error::other(format!(
+                "{} is a link; slosh writes no file through a link",
+                path.display()
+            ));
+        }
+        e
+    })
+}
+
 /// Refuses a link (or anything but a file) at `path`, the target of a rename or of a writer
 /// that opens the file itself.
 pub(crate) fn refuse_link(path: &Path) -> Result<()> {

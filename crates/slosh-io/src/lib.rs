@@ -21,7 +21,7 @@ pub mod summary;
 pub mod vtk;
 
 pub use checkpoint::{read_checkpoint, write_checkpoint};
-pub use error::{create_fresh, write_atomic, IoError, Result};
+pub use error::{create_fresh, open_no_follow, write_atomic, IoError, Result};
 pub use plot::{
     heatmap, line_plot, scatter_with_identity, Field2d, PlotSpec, Series, SeriesStyle, PALETTE,
 };

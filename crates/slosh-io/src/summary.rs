@@ -11,14 +11,21 @@ use crate::error::{write_atomic, IoError, Result};
 /// to a temporary sibling first and then renamed, so it is never seen half-written.
 pub fn write_ron<T: Serialize + ?Sized>(path: impl AsRef<Path>, value: &T) -> Result<()> {
     let path = path.as_ref();
-    let config = ron::ser::PrettyConfig::new();
+    write_atomic(path, ron_text(path, value)?.as_bytes())
+}
+
+/// `value` as the pretty-printed RON text of the file `path` (named in errors), with a final
+/// newline.
+fn ron_text<T: Serialize + ?Sized>(path: &Path, value: &T) -> Result<String> {
     let mut text =
-        ron::ser::to_string_pretty(value, config).map_err(|source| IoError::RonSerialize {
-            path: path.to_path_buf(),
-            reason: source,
+        ron::ser::to_string_pretty(value, ron::ser::PrettyConfig::new()).map_err(|source| {
+            IoError::RonSerialize {
+                path: path.to_path_buf(),
+                reason: source,
+            }
         })?;
     text.push('\n');
-    write_atomic(path, text.as_bytes())
+    Ok(text)
 }
 
 /// Overwrites the existing file `path` with `value` in place, for a full disk where
@@ -31,27 +38,15 @@ pub fn overwrite_ron_in_place<T: Serialize + ?Sized>(
 ) -> Result<()> {
     use std::io::Write;
     let path = path.as_ref();
-    let mut text =
-        ron::ser::to_string_pretty(value, ron::ser::PrettyConfig::new()).map_err(|source| {
-            IoError::RonSerialize {
-                path: path.to_path_buf(),
-                reason: source,
-            }
-        })?;
-    text.push('\n');
+    let text = ron_text(path, value)?;
     crate::error::refuse_link(path)?;
-    let mut options = std::fs::OpenOptions::new();
-    options.write(true);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        options.custom_flags(libc::O_NOFOLLOW);
-    }
-    let written = options.open(path).and_then(|mut file| {
-        file.set_len(0)?;
-        file.write_all(text.as_bytes())?;
-        file.sync_all()
-    });
+    let written = crate::open_no_follow(path, std::fs::OpenOptions::new().write(true)).and_then(
+        |mut file| {
+            file.set_len(0)?;
+            file.write_all(text.as_bytes())?;
+            file.sync_all()
+        },
+    );
     written.map_err(|e| IoError::io(path, e))
 }
 
