@@ -7,7 +7,7 @@ use slosh_case::{run_case_with_stop, RunOptions};
 use slosh_script::{load_case, parse_set_value, CaseOptions};
 use slosh_theory::linear::RectangularTank;
 use slosh_theory::modal::ModalTank;
-use slosh_theory::pitch::PitchedRectangularTank;
+use slosh_theory::pitch::{pitch_from_rest, PitchedRectangularTank};
 use std::path::{Path, PathBuf};
 
 fn script() -> PathBuf {
@@ -130,12 +130,7 @@ fn a_pitched_tank_follows_the_linear_modal_solution() {
     let step = 1e-3;
     let end = c[0].last().unwrap() - settle;
     let n = (end / step) as usize + 2;
-    let (angle, accel): (Vec<f64>, Vec<f64>) = (0..n)
-        .map(|k| {
-            let cs = (omega * k as f64 * step).cos();
-            (0.02 * (1.0 - cs), 0.02 * omega * omega * cs)
-        })
-        .unzip();
+    let (angle, accel) = pitch_from_rest(0.04, omega, step, n);
     let right = tank.elevation_history(step, &angle, &accel, 1.0 - dx, 30);
     let left = tank.elevation_history(step, &angle, &accel, dx, 30);
     let theory_max = right

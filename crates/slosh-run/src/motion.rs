@@ -53,9 +53,22 @@ impl GroundMotion for AtRest {
 /// scripts (a time within 1e-9 s before `settle` counts as the start).
 pub struct AfterSettling<'m, M: ?Sized> {
     /// Settling time (s).
-    pub settle: f64,
+    settle: f64,
     /// The motion, in time since the excitation started.
-    pub motion: &'m mut M,
+    motion: &'m mut M,
+    /// The rotation held during settling, asked of the motion once.
+    rest: Option<Option<TankRotation>>,
+}
+
+impl<'m, M: GroundMotion + ?Sized> AfterSettling<'m, M> {
+    /// `motion` started after `settle` seconds.
+    pub fn new(settle: f64, motion: &'m mut M) -> Self {
+        AfterSettling {
+            settle,
+            motion,
+            rest: None,
+        }
+    }
 }
 
 /// Tolerance (s) of the time comparisons of a case run.
@@ -76,11 +89,14 @@ impl<M: GroundMotion + ?Sized> GroundMotion for AfterSettling<'_, M> {
         if t >= self.settle - TIME_EPS {
             self.motion.ground_rotation(t - self.settle)
         } else {
-            Ok(self.motion.ground_rotation(0.0)?.map(|r| TankRotation {
-                rate: 0.0,
-                acceleration: 0.0,
-                ..r
-            }))
+            if self.rest.is_none() {
+                self.rest = Some(self.motion.ground_rotation(0.0)?.map(|r| TankRotation {
+                    rate: 0.0,
+                    acceleration: 0.0,
+                    ..r
+                }));
+            }
+            Ok(self.rest.flatten())
         }
     }
 }

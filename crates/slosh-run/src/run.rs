@@ -678,10 +678,7 @@ where
         m.compression = checkpoint.compression;
         m.wall_time_before = checkpoint.wall_time_s;
     }
-    let mut motion = AfterSettling {
-        settle: plan.settle,
-        motion,
-    };
+    let mut motion = AfterSettling::new(plan.settle, motion);
     let started = Instant::now();
     let outcome = advance(
         sim,

@@ -96,6 +96,20 @@ impl PitchedRectangularTank {
     }
 }
 
+/// A pitch from rest, θ(t) = θ₀ (1 − cos Ωt)/2 (its rate and angle both start at zero), sampled
+/// every `dt` (s) at `n` times from 0: the angles θ_k (rad) and angular accelerations
+/// θ̈_k = θ₀ Ω² cos(Ωt_k)/2 (rad/s²) that [`PitchedRectangularTank::elevation_history`] takes.
+/// `amplitude` is θ₀ (rad), `omega` Ω (rad/s).
+pub fn pitch_from_rest(amplitude: f64, omega: f64, dt: f64, n: usize) -> (Vec<f64>, Vec<f64>) {
+    let half = 0.5 * amplitude;
+    (0..n)
+        .map(|k| {
+            let c = (omega * k as f64 * dt).cos();
+            (half * (1.0 - c), half * omega * omega * c)
+        })
+        .unzip()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -16,7 +16,7 @@ use super::{condition, failed_run, relative_check, GroupResult};
 use anyhow::{Context as _, Result};
 use slosh_theory::linear::RectangularTank;
 use slosh_theory::modal::ModalTank;
-use slosh_theory::pitch::PitchedRectangularTank;
+use slosh_theory::pitch::{pitch_from_rest, PitchedRectangularTank};
 
 /// Group title.
 pub const GROUP: &str = "Rotating tank: the tank's frame (tank_pitch_2d.rhai, tank_pitch_3d.rhai)";
@@ -234,12 +234,7 @@ fn pitch_theory(pivot_height: f64, t: &[f64], dx: f64) -> Result<Vec<f64>> {
     let step = 2e-4;
     let end = t.last().copied().context("empty series")? - SETTLE;
     let n = (end / step).ceil() as usize + 2;
-    let (angle, accel): (Vec<f64>, Vec<f64>) = (0..n)
-        .map(|k| {
-            let c = (omega * k as f64 * step).cos();
-            (0.5 * PITCH * (1.0 - c), 0.5 * PITCH * omega * omega * c)
-        })
-        .unzip();
+    let (angle, accel) = pitch_from_rest(PITCH, omega, step, n);
     let right = tank.elevation_history(step, &angle, &accel, WIDTH - dx, MODES);
     let left = tank.elevation_history(step, &angle, &accel, dx, MODES);
     Ok(t.iter()
