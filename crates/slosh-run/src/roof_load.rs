@@ -1023,6 +1023,50 @@ mod tests {
         );
     }
 
+    /// An open tank's summary (no roof plan area) gives its wall sensors' numbers and no roof
+    /// entries (zero by construction, not measured) or impact spreads; a roofed one gives both.
+    #[test]
+    fn an_open_tank_has_sensor_scalars_and_no_roof_scalars() {
+        let sensor = SensorLoad {
+            sensor: PressureSensor {
+                name: "s1".into(),
+                horizontal: vec![0.0],
+                diameter: 0.005,
+                height: Some(0.093),
+            },
+            area: 0.005,
+            load: ChannelLoad {
+                peak: 3700.0,
+                design: vec![1.0; 4],
+                ..ChannelLoad::default()
+            },
+        };
+        let open = RoofLoadSummary {
+            periods: DEFAULT_ROOF_PERIODS.to_vec(),
+            sensors: vec![sensor.clone()],
+            impact_sensor_peak: vec![Spread::of(&[])],
+            ..RoofLoadSummary::default()
+        };
+        let names: Vec<String> = open.scalars().into_iter().map(|(n, _)| n).collect();
+        assert!(names.contains(&"p_s1_peak".to_string()), "{names:?}");
+        assert!(names.contains(&"p_s1_eq_50ms".to_string()), "{names:?}");
+        assert!(
+            !names
+                .iter()
+                .any(|n| n.starts_with("roof_") || n.contains("impact")),
+            "{names:?}"
+        );
+        let roofed = RoofLoadSummary {
+            plan_area: 0.9,
+            ..open
+        };
+        let names: Vec<String> = roofed.scalars().into_iter().map(|(n, _)| n).collect();
+        assert!(
+            names.contains(&"roof_impulse".to_string())
+                && names.contains(&"p_s1_impact_peak_p84".to_string())
+        );
+    }
+
     /// The type-7 percentile of 1..=11 is 1 + 0.84·10 = 9.4; median 6.
     #[test]
     fn spread_of_a_sample() {
@@ -1097,28 +1141,35 @@ impl RoofLoadSummary {
     /// `slosh converge`): `roof_impulse`, `roof_f_eq_<T>`, `roof_dlf_<T>`,
     /// `roof_impact_impulse_{median,p84,max}`, `roof_impact_f_eq_<T>_{…}`, and per sensor
     /// `p_<name>_{peak,impulse}`, `p_<name>_eq_<T>`, `p_<name>_impact_peak_{…}`, where `<T>` is
-    /// the roof period in ms ([`period_tag`]).
+    /// the roof period in ms ([`period_tag`]). An open tank (wall sensors only) has the
+    /// sensors' peak, impulse and F_eq alone.
     pub fn scalars(&self) -> Vec<(String, f64)> {
-        let mut out = vec![
-            ("roof_impulse".to_string(), self.roof.impulse),
-            ("roof_peak_force".to_string(), self.roof.peak),
-            ("roof_impacts".to_string(), self.impacts as f64),
-        ];
+        // An open tank with wall sensors has no roof entries (its roof load is zero by
+        // construction, not measured) and no impacts.
+        let roofed = self.plan_area > 0.0;
+        let mut out = Vec::new();
+        if roofed {
+            out.push(("roof_impulse".to_string(), self.roof.impulse));
+            out.push(("roof_peak_force".to_string(), self.roof.peak));
+            out.push(("roof_impacts".to_string(), self.impacts as f64));
+        }
         let spread = |out: &mut Vec<(String, f64)>, name: String, s: &Spread| {
             out.push((format!("{name}_median"), s.median));
             out.push((format!("{name}_p84"), s.p84));
             out.push((format!("{name}_max"), s.max));
         };
         let at = |v: &[f64], k: usize| v.get(k).copied().unwrap_or(f64::NAN);
-        for (k, &t) in self.periods.iter().enumerate() {
-            let tag = period_tag(t);
-            out.push((format!("roof_f_eq_{tag}"), at(&self.roof.design, k)));
-            out.push((format!("roof_dlf_{tag}"), at(&self.roof.dlf, k)));
-        }
-        spread(&mut out, "roof_impact_impulse".into(), &self.impact_impulse);
-        for (k, &t) in self.periods.iter().enumerate() {
-            if let Some(s) = self.impact_f_eq.get(k) {
-                spread(&mut out, format!("roof_impact_f_eq_{}", period_tag(t)), s);
+        if roofed {
+            for (k, &t) in self.periods.iter().enumerate() {
+                let tag = period_tag(t);
+                out.push((format!("roof_f_eq_{tag}"), at(&self.roof.design, k)));
+                out.push((format!("roof_dlf_{tag}"), at(&self.roof.dlf, k)));
+            }
+            spread(&mut out, "roof_impact_impulse".into(), &self.impact_impulse);
+            for (k, &t) in self.periods.iter().enumerate() {
+                if let Some(s) = self.impact_f_eq.get(k) {
+                    spread(&mut out, format!("roof_impact_f_eq_{}", period_tag(t)), s);
+                }
             }
         }
         for (i, s) in self.sensors.iter().enumerate() {
@@ -1131,7 +1182,7 @@ impl RoofLoadSummary {
                     at(&s.load.design, k),
                 ));
             }
-            if let Some(sp) = self.impact_sensor_peak.get(i) {
+            if let Some(sp) = self.impact_sensor_peak.get(i).filter(|_| roofed) {
                 spread(&mut out, format!("{name}_impact_peak"), sp);
             }
         }
