@@ -57,7 +57,8 @@ fn mean_after(t: &[f64], y: &[f64], from: f64) -> f64 {
 /// still pressure at the wall, extrapolated from the liquid to the wall face, carries the
 /// lattice's error of order dx/h of a spacing in depth (1 cm in 15–30 cm here) and the
 /// weakly compressible liquid's small acoustic ripple, which the mean over 0.5 s removes.
-/// The summary carries the sensors of the open tank with their heights.
+/// The summary carries the sensors of the open tank with their heights. A centre a little off
+/// the wall is taken onto it.
 #[test]
 fn wall_sensors_read_hydrostatic_pressure_in_2d() {
     let script = r#"
@@ -67,8 +68,13 @@ run(#{ settle: 0.0, duration: 1.0, output_interval: 0.01 });
 wall_sensor("left", 0.0, 0.15, 0.05);
 wall_sensor("right", 0.4, 0.05, 0.05);
 wall_sensor("floor", 0.2, 0.0, 0.05);
+wall_sensor("beside", 0.006, 0.15, 0.05);
 "#;
-    let (summary, c) = run("2d", script, &["t", "p_left", "p_right", "p_floor"]);
+    let (summary, c) = run(
+        "2d",
+        script,
+        &["t", "p_left", "p_right", "p_floor", "p_beside"],
+    );
     let level = summary.still_level;
     assert!((level - 0.3).abs() < 0.011, "still level {level}");
     for (k, (name, z)) in [("left", 0.15), ("right", 0.05), ("floor", 0.0)]
@@ -86,7 +92,14 @@ wall_sensor("floor", 0.2, 0.0, 0.05);
         .roof_load
         .as_ref()
         .expect("an open tank with wall sensors has their loads in the summary");
-    assert_eq!(load.sensors.len(), 3);
+    assert_eq!(load.sensors.len(), 4);
+    // A centre 0.6 dx off the left wall is taken onto it: the same face and reading.
+    assert!(
+        (load.sensors[3].area - 0.05).abs() < 1e-9,
+        "{}",
+        load.sensors[3].area
+    );
+    assert_eq!(c[4], c[1]);
     assert_eq!(load.sensors[0].sensor.height, Some(0.15));
     assert!((load.sensors[0].area - 0.05).abs() < 1e-9, "a 5 cm face");
     assert_eq!(load.impacts, 0);
@@ -115,19 +128,37 @@ wall_sensor("shell", 0.15, 0.0, 0.05, 0.04);
 }
 
 /// A sensor whose centre is inside the liquid, away from every wall, is refused before the
-/// run with its name and the nearest wall face.
+/// run with its name and the nearest wall face; so is one at the top of an open tank's wall,
+/// more than half of whose face would hang past the wall's end.
 #[test]
 fn a_wall_sensor_off_the_walls_stops_the_run_with_its_name() {
-    let out = out_dir("off");
+    refused(
+        "off",
+        r#"wall_sensor("mid", 0.2, 0.15, 0.05);"#,
+        &["wall_sensor \"mid\"", "from the nearest wall face"],
+    );
+    refused(
+        "wall-end",
+        r#"wall_sensor("top", 0.0, 0.405, 0.1);"#,
+        &["wall_sensor \"top\"", "the wall ends within its radius"],
+    );
+}
+
+/// Runs a small tank with `sensor` and checks that the run is refused with every text of
+/// `expected` in its message.
+fn refused(name: &str, sensor: &str, expected: &[&str]) {
+    let out = out_dir(name);
     let path = out.join("case.rhai");
     std::fs::write(
         &path,
-        r#"
-tank(#{ shape: "rect", width: 0.4, height: 0.4, depth: 0.3 });
-numerics(#{ scheme: "modern", dx: 0.02 });
-run(#{ settle: 0.0, duration: 0.05 });
-wall_sensor("mid", 0.2, 0.15, 0.05);
-"#,
+        format!(
+            r#"
+tank(#{{ shape: "rect", width: 0.4, height: 0.4, depth: 0.3, roof: false }});
+numerics(#{{ scheme: "modern", dx: 0.02 }});
+run(#{{ settle: 0.0, duration: 0.05 }});
+{sensor}
+"#
+        ),
     )
     .unwrap();
     let case = load_case(&path, &CaseOptions::default()).unwrap();
@@ -140,9 +171,6 @@ wall_sensor("mid", 0.2, 0.15, 0.05);
         Ok(summary) => format!("{:?}", summary.error),
         Err(e) => format!("{e:#}"),
     };
-    assert!(
-        message.contains("wall_sensor \"mid\"") && message.contains("from the nearest wall face"),
-        "{message}"
-    );
+    assert!(expected.iter().all(|e| message.contains(e)), "{message}");
     let _ = std::fs::remove_dir_all(&out);
 }

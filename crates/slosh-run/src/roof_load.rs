@@ -263,7 +263,7 @@ struct RowCut {
 
 /// Measures the roof load of every step: the roof force's and each sensor's impulse, peak and
 /// oscillator response, cut at every output row for the impacts.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct RoofLoadMonitor {
     /// Load-point index and A·n_z of each roof point (the upward force is Σ p A n_z).
     roof: Vec<(usize, f64)>,
@@ -272,8 +272,9 @@ pub struct RoofLoadMonitor {
     /// Sensor areas (m²; 2D m).
     sensor_area: Vec<f64>,
     /// Whether each sensor's face lies on the roof (a roof panel the impacts are also found
-    /// on); absent in checkpoints written before it, which then count no sensor.
-    #[serde(default)]
+    /// on). Not in checkpoints (their encoding is positional, and it follows from the tank
+    /// and the plan): [`Self::resumed`] takes it from the monitor built for the run.
+    #[serde(skip)]
     sensor_on_roof: Vec<bool>,
     /// Roof plan area Σ A |n_z| (m²; 2D m).
     plan_area: f64,
@@ -409,15 +410,18 @@ fn wall_sensor_points<const D: usize>(
         ));
     }
     let n0 = loads.normals()[nearest];
+    // The centre taken onto the plane of the nearest face (a centre off the wall by up to a
+    // spacing, as a tank fitted to the lattice moves its walls by up to half one).
+    let on_face = centre - n0 * (centre - face(nearest)).dot(&n0);
     let radius = 0.5 * s.diameter;
     let same_face = |k: usize| {
         loads.normals()[k].dot(&n0) > 25f64.to_radians().cos()
-            && (face(k) - centre).dot(&n0).abs() <= 0.5 * spacing
+            && (face(k) - on_face).dot(&n0).abs() <= 0.5 * spacing
     };
-    let mut on: Vec<(usize, f64)> = (0..loads.len())
+    let on: Vec<(usize, f64)> = (0..loads.len())
         .filter(|&k| same_face(k))
         .filter_map(|k| {
-            let d = face(k) - centre;
+            let d = face(k) - on_face;
             let area = loads.areas()[k];
             if D == 2 {
                 // Along the wall: the tangent (n_z, −n_x) of the section.
@@ -430,7 +434,32 @@ fn wall_sensor_points<const D: usize>(
         })
         .collect();
     if on.is_empty() {
-        on.push((nearest, loads.areas()[nearest]));
+        // A disc narrower than the spacing reads the nearest point.
+        return Ok(vec![(nearest, loads.areas()[nearest])]);
+    }
+    // A face that runs off its wall (past a corner or the wall's end) is refused: in 2D the
+    // segment's overlap is exact, so under half of it on the wall is the wall's end; in 3D
+    // the disc's points are a lattice's, whose area on an unbroken wall is at least a third
+    // of the disc's, so under a quarter is the wall's end.
+    let (nominal, least) = if D == 2 {
+        (s.diameter, 0.5)
+    } else {
+        (std::f64::consts::PI * radius * radius, 0.25)
+    };
+    let area: f64 = on.iter().map(|(_, a)| a).sum();
+    if area < least * nominal {
+        return Err(format!(
+            "wall_sensor \"{}\" at {:?}: only {:.0} % of its face (diameter {} m) lies on \
+             the wall it is on (part {}); the wall ends within its radius: move it away from \
+             the corner or the wall's end, or make it smaller",
+            s.name,
+            centre.as_slice(),
+            100.0 * area / nominal,
+            s.diameter,
+            sim.part_names()
+                .get(loads.parts()[nearest] as usize)
+                .map_or("?", String::as_str),
+        ));
     }
     Ok(on)
 }
@@ -501,6 +530,15 @@ impl RoofLoadMonitor {
             design_periods: plan.design_periods.clone(),
             damping_ratio: plan.damping_ratio,
         })
+    }
+
+    /// The monitor of a checkpoint, `saved`, continued in the run this monitor was built for:
+    /// the saved measurements with what follows from the tank and the plan alone.
+    pub fn resumed(self, saved: RoofLoadMonitor) -> RoofLoadMonitor {
+        RoofLoadMonitor {
+            sensor_on_roof: self.sensor_on_roof,
+            ..saved
+        }
     }
 
     /// True when the tank has a roof with load points.

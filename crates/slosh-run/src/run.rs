@@ -672,7 +672,7 @@ where
         m.series = checkpoint.series;
         m.pending = checkpoint.pending.into();
         m.roof = checkpoint.roof;
-        m.roof_load = checkpoint.roof_load;
+        m.roof_load = std::mem::take(&mut m.roof_load).resumed(checkpoint.roof_load);
         m.next_output = checkpoint.next_output;
         m.next_frame = checkpoint.next_frame;
         m.compression = checkpoint.compression;

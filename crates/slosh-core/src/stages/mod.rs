@@ -237,9 +237,9 @@ impl StepPlan {
         }
     }
 
-    /// One line naming the stages, for run summaries.
     /// Whether a pass of this plan lists each particle's neighbours for a later pass to read
-    /// (the density summation, and the strain-rate sweep of continuity density). The other
+    /// (the density summation, and the half strain-rate sweep of continuity density on the
+    /// cell grid). The other
     /// plans take every pair from the search and need no list memory: the lists hold 48
     /// (2D) or 128 (3D) entries of 4 B per fluid particle.
     pub(crate) fn lists_neighbours(&self) -> bool {
@@ -247,12 +247,13 @@ impl StepPlan {
             self.density,
             DensityStage::Summation { .. }
                 | DensityStage::Continuity {
-                    velocity_gradient: Some(_),
+                    velocity_gradient: Some(PairSweep::Half),
                     ..
                 }
         )
     }
 
+    /// One line naming the stages, for run summaries.
     pub(crate) fn describe(&self) -> String {
         let sweep = |s: PairSweep| match s {
             PairSweep::Half => "each pair once",
