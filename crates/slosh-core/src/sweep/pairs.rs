@@ -5,11 +5,12 @@
 //! which order.
 
 use super::{
-    colour_sweep, forward_pairs_batched, split_walls, Block, ForwardPairBatch, Slot, Sweep,
+    colour_sweep, forward_pairs_batched, split_walls, Block, CheckedList, ForwardPairBatch, Slot,
+    Sweep,
 };
 use crate::neighbours::{CellGrid, NeighbourSearch};
-use crate::sim::{NeighbourLists, Vector, LIST_OVERFLOW, PAR_CHUNK, WALL_NEIGHBOUR};
-use crate::terms::{ForceSweep, PairFactorBatch};
+use crate::sim::{NeighbourLists, Vector, BATCH, LIST_OVERFLOW, PAR_CHUNK, WALL_NEIGHBOUR};
+use crate::terms::{ForceSweep, PairBatch};
 use rayon::prelude::*;
 
 /// The terms of a pass over pairs, composed per scheme, evaluated by [`half_sweep`] and
@@ -42,6 +43,36 @@ pub(crate) trait PairInteraction<'a, 'id, const D: usize>: Sync {
         factors: (f64, f64, f64),
         j_slot: Option<Slot<'_, 'id>>,
     );
+    /// The fluid pairs of owner i (at `xi`, density `rho_i`) in `batch` (at most [`BATCH`],
+    /// within the support, their r² in `factors.r2`): each pair's shares as
+    /// [`Self::fluid_pair`] with j's slot adds them, in the batch's order. By default one
+    /// pair at a time; a pass may compute the batch's pair terms together.
+    #[inline(always)]
+    fn fluid_batch(
+        &self,
+        owner: &Self::Owner,
+        sums: &mut Self::Sums,
+        xi: Vector<D>,
+        rho_i: f64,
+        batch: CheckedList<'_, 'id>,
+        factors: &mut PairBatch<D>,
+    ) {
+        let m = self.momentum();
+        m.batch_factors(rho_i, batch.indices(), factors);
+        for (k, (j, slot)) in batch.iter().enumerate() {
+            let xij = xi - m.pos[j];
+            self.fluid_pair(
+                owner,
+                sums,
+                j,
+                xij,
+                factors.r[k],
+                factors.get(k),
+                Some(slot),
+            );
+        }
+    }
+
     /// A pair of fluid particle i and wall particle `w` within the support, at
     /// x_iw = x_i − x_w, squared distance `r2` (m²).
     fn wall_pair(
@@ -82,7 +113,7 @@ struct GridPairs<'s, 'a, 'id, const D: usize, P: PairInteraction<'a, 'id, D>> {
     p: &'s P,
     owner: &'s P::Owner,
     sums: &'s mut P::Sums,
-    factors: &'s mut PairFactorBatch,
+    factors: &'s mut PairBatch<D>,
     block: &'s Block<'id>,
     xi: Vector<D>,
     rho_i: f64,
@@ -104,10 +135,7 @@ impl<'a, 'id, const D: usize, P: PairInteraction<'a, 'id, D>> ForwardPairBatch
         } = self;
         let list = block.check_list(batch_j);
         factors.r2[..batch_r2.len()].copy_from_slice(batch_r2);
-        p.momentum()
-            .visit_batch(*xi, *rho_i, list, factors, &mut |j, slot, xij, r, f| {
-                p.fluid_pair(owner, sums, j, xij, r, f, Some(slot));
-            });
+        p.fluid_batch(owner, sums, *xi, *rho_i, list, factors);
     }
 }
 
@@ -127,7 +155,7 @@ pub(crate) fn half_sweep<'a, 'id, const D: usize, P: PairInteraction<'a, 'id, D>
     let m = p.momentum();
     let (pos, wall_pos) = (m.pos, m.wall_pos);
     colour_sweep(sweep, blocks, |block| {
-        let mut batch = PairFactorBatch::new();
+        let mut batch = PairBatch::new();
         for i in block.begin..block.end {
             let (o, xi, rho_i) = p.owner(i);
             let mut sums = p.start(&o, true);
@@ -141,10 +169,10 @@ pub(crate) fn half_sweep<'a, 'id, const D: usize, P: PairInteraction<'a, 'id, D>
             if let Some((fluid_list, wall_list)) = listed {
                 // The listed pairs are within the support (tested by the sweep that listed
                 // them, on the same positions).
-                let fluid_list = block.check_list(fluid_list);
-                m.for_each_listed_pair(xi, rho_i, fluid_list, &mut batch, |j, slot, xij, r, f| {
-                    p.fluid_pair(&o, &mut sums, j, xij, r, f, Some(slot));
-                });
+                for chunk in block.check_list(fluid_list).chunks(BATCH) {
+                    m.batch_distances(xi, chunk, &mut batch);
+                    p.fluid_batch(&o, &mut sums, xi, rho_i, chunk, &mut batch);
+                }
                 for &entry in wall_list {
                     let w = (entry & !WALL_NEIGHBOUR) as usize;
                     let xiw = xi - wall_pos[w];

@@ -1,7 +1,7 @@
 //! The momentum, continuity, density-diffusion and shifting terms of one pair, evaluated together.
 
 use crate::sim::*;
-use crate::sweep::{Block, PairInteraction, Slot, Sweep, SweepSlots};
+use crate::sweep::{Block, CheckedList, PairInteraction, Slot, Sweep, SweepSlots};
 use crate::terms::*;
 
 /// The density rate of the coupled pass, chosen once per run: none (summation density), or
@@ -105,8 +105,9 @@ pub(crate) trait MomentumContinuityPair<const D: usize>: Sync + Sized {
     /// The pair's constants for a run.
     fn new(c: &PassConstants) -> Self;
 
-    /// Fluid particles i (`o`) and j at x_ij = x_i − x_j, distance `r` (m), ∇_i W_ij =
-    /// `grad_w`, with the pair factors (∇W factor, 1/s, 1/ρ̄) of [`ForceSweep::pair_factors`]:
+    /// Fluid particles i (`o`) and j (its values `nb`) at x_ij = x_i − x_j, distance `r` (m),
+    /// ∇_i W_ij = `grad_w`, with the pair factors (∇W factor, 1/s, 1/ρ̄) of
+    /// [`ForceSweep::pair_factors`]:
     /// the acceleration of i (m/s²; j gets its negative) and, with `continuity`, the density
     /// rates of i and of j (kg/(m³·s)).
     // The pair's operands are passed one by one, as the inner loop holds them.
@@ -116,6 +117,7 @@ pub(crate) trait MomentumContinuityPair<const D: usize>: Sync + Sized {
         base: &ForceSweep<'_, D>,
         o: &ForceOwner<D>,
         j: usize,
+        nb: &FluidNeighbour<D>,
         xij: Vector<D>,
         r: f64,
         grad_w: Vector<D>,
@@ -168,16 +170,18 @@ impl<const D: usize> MomentumContinuityPair<D> for Eq8Pair {
         base: &ForceSweep<'_, D>,
         o: &ForceOwner<D>,
         j: usize,
+        nb: &FluidNeighbour<D>,
         xij: Vector<D>,
         _r: f64,
         grad_w: Vector<D>,
         factors: (f64, f64, f64),
         continuity: bool,
     ) -> (Vector<D>, f64, f64) {
-        // Eq. 8: the paper's pair term.
+        // Eq. 8: the paper's pair term, as the paper's force pass evaluates it (it reads j's
+        // strain rate besides `nb`).
         let acc = base.fluid_term_with(o, j, xij, factors);
         if continuity {
-            let vij = o.v - base.vel[j];
+            let vij = o.v - nb.v;
             let d = base.c.mass * vij.dot(&grad_w);
             (acc, d, d)
         } else {
@@ -247,6 +251,29 @@ pub(crate) struct FluidPairTerm<const D: usize> {
     pub(crate) volume_j: f64,
 }
 
+/// The shares of a batch of fluid pairs ([`ModernPairTerms::fluid_pairs`]), one array per
+/// component and pair k.
+pub(crate) struct PairShareBatch<const D: usize> {
+    /// Acceleration of i (m/s²), per component.
+    pub(crate) acc: [[f64; BATCH]; D],
+    /// dρ_i/dt and dρ_j/dt (kg/(m³·s)).
+    pub(crate) drho_i: [f64; BATCH],
+    pub(crate) drho_j: [f64; BATCH],
+    /// W_ij (with shifting).
+    pub(crate) w: [f64; BATCH],
+}
+
+impl<const D: usize> PairShareBatch<D> {
+    pub(crate) fn new() -> Self {
+        PairShareBatch {
+            acc: [[0.0; BATCH]; D],
+            drho_i: [0.0; BATCH],
+            drho_j: [0.0; BATCH],
+            w: [0.0; BATCH],
+        }
+    }
+}
+
 /// One fluid–wall pair's shares of i's sums: acceleration, dρ/dt, and the shifting's ∇C and
 /// kernel sum.
 pub(crate) struct WallPairTerm<const D: usize> {
@@ -299,17 +326,21 @@ impl<
         }
     }
 
-    /// The pair of fluid particles i (`o`) and j at squared distance r2 within the support:
-    /// the momentum and continuity pair `F` (Eq. 8 with dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij,
-    /// Monaghan 1992, or the Riemann-solver pair) with the δ-SPH diffusion term
-    /// (Molteni & Colagrossi 2009; Fourtakas et al. 2019), and what the shifting sums need.
-    /// `r` is the distance and `factors` the pair's (∇W factor, 1/s, 1/ρ̄) of
-    /// [`ForceSweep::pair_factors`].
+    /// The pair of fluid particles i (`o`) and j (its values `nb`, and `rho_dyn_j` the density
+    /// the diffusion term differences) within the support: the momentum and continuity pair
+    /// `F` (Eq. 8 with dρ_i/dt = Σ_j m_j (v_i − v_j)·∇_i W_ij, Monaghan 1992, or the
+    /// Riemann-solver pair) with the δ-SPH diffusion term (Molteni & Colagrossi 2009;
+    /// Fourtakas et al. 2019), and what the shifting sums need. `r` is the distance and
+    /// `factors` the pair's (∇W factor, 1/s, 1/ρ̄) of [`ForceSweep::pair_factors`].
+    // The pair's operands are passed one by one, as the inner loop holds them.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(crate) fn fluid_pair(
         &self,
         o: &ModernOwner<D>,
         j: usize,
+        nb: &FluidNeighbour<D>,
+        rho_dyn_j: f64,
         xij: Vector<D>,
         r: f64,
         (f, inv_s, inv_rho_mean): (f64, f64, f64),
@@ -321,15 +352,16 @@ impl<
             &self.base,
             &o.f,
             j,
+            nb,
             xij,
             r,
             grad_w,
             (f, inv_s, inv_rho_mean),
             R::CONTINUITY,
         );
-        let volume_j = m * self.base.inv_rho[j];
+        let volume_j = m * nb.inv_rho;
         if R::CONTINUITY && R::DIFFUSION {
-            let psi = self.diff_coeff * (self.rho_dyn(j) - o.rho_dyn) * f;
+            let psi = self.diff_coeff * (rho_dyn_j - o.rho_dyn) * f;
             drho_i += psi * volume_j;
             drho_j -= psi * o.volume;
         }
@@ -341,6 +373,63 @@ impl<
             grad_w,
             w,
             volume_j,
+        }
+    }
+
+    /// [`Self::fluid_pair`] of fluid particle j alone, its values read from the fluid.
+    #[inline(always)]
+    pub(crate) fn fluid_pair_of(
+        &self,
+        o: &ModernOwner<D>,
+        j: usize,
+        xij: Vector<D>,
+        r: f64,
+        factors: (f64, f64, f64),
+    ) -> FluidPairTerm<D> {
+        let nb = self.base.neighbour(j);
+        self.fluid_pair(o, j, &nb, self.rho_dyn(j), xij, r, factors)
+    }
+
+    /// [`Self::fluid_pair`] of the neighbours `indices` (at most [`BATCH`]) of owner `o`,
+    /// with their factors, r and gathered values in `b`: the shares into `b.shares`, each
+    /// pair's arithmetic that of `fluid_pair` (one loop over the batch, which the compiler
+    /// vectorises where the pair `F` reads nothing by index).
+    #[inline(always)]
+    // One index over the batch's arrays: the form the compiler vectorises.
+    #[allow(clippy::needless_range_loop)]
+    pub(crate) fn fluid_pairs(&self, o: &ModernOwner<D>, indices: &[u32], b: &mut PairBatch<D>) {
+        let n = indices.len().min(BATCH);
+        let (nbs, shares) = (&b.neighbours, &mut b.shares);
+        for k in 0..n {
+            let pair = self.fluid_pair(
+                o,
+                indices[k] as usize,
+                &nbs.get(k),
+                nbs.rho_dyn[k],
+                nbs.xij(k),
+                b.r[k],
+                (b.grad[k], b.inv_s[k], b.inv_rho_mean[k]),
+            );
+            for d in 0..D {
+                shares.acc[d][k] = pair.acc[d];
+            }
+            shares.drho_i[k] = pair.drho_i;
+            shares.drho_j[k] = pair.drho_j;
+            shares.w[k] = pair.w;
+        }
+    }
+
+    /// Pair k of a batch that [`Self::fluid_pairs`] computed, as `fluid_pair` returns it.
+    #[inline(always)]
+    pub(crate) fn batch_pair(&self, b: &PairBatch<D>, k: usize) -> FluidPairTerm<D> {
+        let (nbs, shares) = (&b.neighbours, &b.shares);
+        FluidPairTerm {
+            acc: Vector::<D>::from_fn(|d, _| shares.acc[d][k]),
+            drho_i: shares.drho_i[k],
+            drho_j: shares.drho_j[k],
+            grad_w: nbs.xij(k) * b.grad[k],
+            w: shares.w[k],
+            volume_j: self.base.c.mass * nbs.inv_rho[k],
         }
     }
 
@@ -525,6 +614,26 @@ impl<
             body_force,
         }
     }
+
+    /// A fluid pair's shares: i's to `sums`; with j's slot (the half sweep) j's to that slot.
+    #[inline(always)]
+    fn add_pair(
+        &self,
+        o: &ModernOwner<D>,
+        sums: &mut OwnerSums<D>,
+        pair: &FluidPairTerm<D>,
+        j_slot: Option<Slot<'_, 'id>>,
+    ) {
+        sums.add_fluid::<SHIFT>(pair);
+        if let Some(slot) = j_slot {
+            self.acceleration.sub(&slot, pair.acc);
+            self.density_rate.add(&slot, pair.drho_j);
+            if let (true, Some((grad_c, ksum))) = (SHIFT, &self.shifting) {
+                grad_c.sub(&slot, pair.grad_w * o.volume);
+                ksum.add(&slot, o.volume * pair.w);
+            }
+        }
+    }
 }
 
 impl<
@@ -579,15 +688,38 @@ impl<
         factors: (f64, f64, f64),
         j_slot: Option<Slot<'_, 'id>>,
     ) {
-        let pair = self.terms.fluid_pair(o, j, xij, r, factors);
-        sums.add_fluid::<SHIFT>(&pair);
-        if let Some(slot) = j_slot {
-            self.acceleration.sub(&slot, pair.acc);
-            self.density_rate.add(&slot, pair.drho_j);
-            if let (true, Some((grad_c, ksum))) = (SHIFT, &self.shifting) {
-                grad_c.sub(&slot, pair.grad_w * o.volume);
-                ksum.add(&slot, o.volume * pair.w);
-            }
+        let pair = self.terms.fluid_pair_of(o, j, xij, r, factors);
+        self.add_pair(o, sums, &pair, j_slot);
+    }
+
+    #[inline(always)]
+    fn fluid_batch(
+        &self,
+        o: &ModernOwner<D>,
+        sums: &mut OwnerSums<D>,
+        xi: Vector<D>,
+        rho_i: f64,
+        batch: CheckedList<'_, 'id>,
+        b: &mut PairBatch<D>,
+    ) {
+        // Gathered by index, computed in one loop over the batch, then added in the batch's
+        // order: each pair's arithmetic and the order of every sum those of `fluid_pair`.
+        let t = &self.terms;
+        let indices = batch.indices();
+        t.base
+            .gather_batch(xi, indices, |j| t.rho_dyn(j), &mut b.neighbours);
+        // The factors' ρ_i + ρ_j from the gathered densities.
+        for (rho_pair, rho_j) in b
+            .rho_pair
+            .iter_mut()
+            .zip(&b.neighbours.rho[..indices.len()])
+        {
+            *rho_pair = rho_i + rho_j;
+        }
+        t.base.pair_factors_batch(indices.len(), b);
+        t.fluid_pairs(o, indices, b);
+        for (k, (_, slot)) in batch.iter().enumerate() {
+            self.add_pair(o, sums, &t.batch_pair(b, k), Some(slot));
         }
     }
 

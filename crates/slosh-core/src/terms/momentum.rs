@@ -2,6 +2,7 @@
 
 use crate::sim::*;
 use crate::sweep::{Block, CheckedList, PairInteraction, Slot, SweepSlots};
+use crate::terms::PairShareBatch;
 
 /// What the sorted force sweep reads, gathered so that its pair terms can be functions that
 /// are always inlined (closures called from two places are not, and a call per pair costs
@@ -24,8 +25,10 @@ pub(crate) struct ForceSweep<'a, const D: usize> {
     pub(crate) wall_p: &'a [f64],
 }
 
-/// A batch of fluid pairs of one owner and their factors ([`ForceSweep::pair_factors_batch`]).
-pub(crate) struct PairFactorBatch {
+/// A batch of fluid pairs of one owner: their factors ([`ForceSweep::pair_factors_batch`]),
+/// and for a pass that computes its pair terms a batch at a time, the neighbours' gathered
+/// values and the pairs' shares ([`crate::terms::Coupled`]).
+pub(crate) struct PairBatch<const D: usize> {
     /// Squared distance r² (m²): input.
     pub(crate) r2: [f64; BATCH],
     /// ρ_i + ρ_j (kg/m³): input.
@@ -38,17 +41,23 @@ pub(crate) struct PairFactorBatch {
     pub(crate) inv_s: [f64; BATCH],
     /// 1/ρ̄ = 2/(ρ_i + ρ_j).
     pub(crate) inv_rho_mean: [f64; BATCH],
+    /// The neighbours' values the pair terms read.
+    pub(crate) neighbours: NeighbourBatch<D>,
+    /// The pairs' shares.
+    pub(crate) shares: PairShareBatch<D>,
 }
 
-impl PairFactorBatch {
+impl<const D: usize> PairBatch<D> {
     pub(crate) fn new() -> Self {
-        PairFactorBatch {
+        PairBatch {
             r2: [0.0; BATCH],
             rho_pair: [0.0; BATCH],
             r: [0.0; BATCH],
             grad: [0.0; BATCH],
             inv_s: [0.0; BATCH],
             inv_rho_mean: [0.0; BATCH],
+            neighbours: NeighbourBatch::new(),
+            shares: PairShareBatch::new(),
         }
     }
 
@@ -57,6 +66,68 @@ impl PairFactorBatch {
     pub(crate) fn get(&self, k: usize) -> (f64, f64, f64) {
         (self.grad[k], self.inv_s[k], self.inv_rho_mean[k])
     }
+}
+
+/// The fluid neighbours of a batch of pairs, one array per component and pair k, gathered by
+/// index ([`ForceSweep::gather_batch`]) before the loop over the pair terms, so that this
+/// loop reads consecutive values and the compiler vectorises it.
+pub(crate) struct NeighbourBatch<const D: usize> {
+    /// x_ij = x_i − x_j (m), per component.
+    pub(crate) xij: [[f64; BATCH]; D],
+    /// v_j (m/s), per component.
+    pub(crate) v: [[f64; BATCH]; D],
+    /// 1/ρ_j (m³/kg).
+    pub(crate) inv_rho: [f64; BATCH],
+    /// p_j (Pa).
+    pub(crate) p: [f64; BATCH],
+    /// ρ_j (kg/m³).
+    pub(crate) rho: [f64; BATCH],
+    /// The density of j that a density-diffusion term differences (kg/m³).
+    pub(crate) rho_dyn: [f64; BATCH],
+}
+
+impl<const D: usize> NeighbourBatch<D> {
+    fn new() -> Self {
+        NeighbourBatch {
+            xij: [[0.0; BATCH]; D],
+            v: [[0.0; BATCH]; D],
+            inv_rho: [0.0; BATCH],
+            p: [0.0; BATCH],
+            rho: [0.0; BATCH],
+            rho_dyn: [0.0; BATCH],
+        }
+    }
+
+    /// x_ij of pair k.
+    #[inline(always)]
+    pub(crate) fn xij(&self, k: usize) -> Vector<D> {
+        Vector::<D>::from_fn(|d, _| self.xij[d][k])
+    }
+
+    /// Neighbour k.
+    #[inline(always)]
+    pub(crate) fn get(&self, k: usize) -> FluidNeighbour<D> {
+        FluidNeighbour {
+            v: Vector::<D>::from_fn(|d, _| self.v[d][k]),
+            inv_rho: self.inv_rho[k],
+            p: self.p[k],
+            rho: self.rho[k],
+        }
+    }
+}
+
+/// What a fluid pair term reads of its neighbour j besides its position, gathered once
+/// ([`ForceSweep::neighbour`], or a batch's [`NeighbourBatch`]).
+#[derive(Clone, Copy)]
+pub(crate) struct FluidNeighbour<const D: usize> {
+    /// Velocity v_j (m/s).
+    pub(crate) v: Vector<D>,
+    /// 1/ρ_j (m³/kg).
+    pub(crate) inv_rho: f64,
+    /// Pressure p_j (Pa).
+    pub(crate) p: f64,
+    /// Density ρ_j (kg/m³).
+    pub(crate) rho: f64,
 }
 
 /// The fluid particle i of a row of pairs in a force sweep (paper and modern steps).
@@ -125,7 +196,7 @@ impl<'a, const D: usize> ForceSweep<'a, D> {
     #[inline(always)]
     // One index over six arrays: the form the compiler vectorises.
     #[allow(clippy::needless_range_loop)]
-    pub(crate) fn pair_factors_batch(&self, n: usize, b: &mut PairFactorBatch) {
+    pub(crate) fn pair_factors_batch(&self, n: usize, b: &mut PairBatch<D>) {
         let mut inv_r = [0.0f64; BATCH];
         for k in 0..n {
             let rk = b.r2[k].sqrt().max(1e-150);
@@ -142,48 +213,64 @@ impl<'a, const D: usize> ForceSweep<'a, D> {
             .gradient_factors_with_inverse(&b.r[..n], &inv_r[..n], &mut b.grad[..n]);
     }
 
-    /// Calls `visit(j, x_ij, r, factors)` for the fluid neighbours j of particle i (at
-    /// `xi`, density `rho_i`) in `fluid_list`, with the pair factors of
-    /// [`Self::pair_factors`] computed a batch at a time.
+    /// The squared distances from `xi` of the fluid neighbours in `batch` (at most
+    /// [`BATCH`]) into `b.r2`, for [`Self::batch_factors`].
     #[inline(always)]
-    pub(crate) fn for_each_listed_pair<'b, 'id, F>(
+    pub(crate) fn batch_distances(
         &self,
         xi: Vector<D>,
-        rho_i: f64,
-        fluid_list: CheckedList<'b, 'id>,
-        b: &mut PairFactorBatch,
-        mut visit: F,
-    ) where
-        F: FnMut(usize, Slot<'b, 'id>, Vector<D>, f64, (f64, f64, f64)),
-    {
-        for chunk in fluid_list.chunks(BATCH) {
-            for (k, &j) in chunk.indices().iter().enumerate() {
-                b.r2[k] = (xi - self.pos[j as usize]).norm_squared();
-            }
-            self.visit_batch(xi, rho_i, chunk, b, &mut visit);
+        batch: CheckedList<'_, '_>,
+        b: &mut PairBatch<D>,
+    ) {
+        for (k, &j) in batch.indices().iter().enumerate() {
+            b.r2[k] = (xi - self.pos[j as usize]).norm_squared();
         }
     }
 
-    /// Calls `visit(j, x_ij, r, factors)` for the fluid neighbours j of particle i (at `xi`,
-    /// density `rho_i`) in `batch`, at most [`BATCH`] of them, whose squared distances are in
-    /// `b.r2` already, with the pair factors of [`Self::pair_factors`] computed together.
+    /// The pair factors of [`Self::pair_factors`] for the fluid neighbours `indices` (at
+    /// most [`BATCH`]) of a particle of density `rho_i`, their squared distances in `b.r2`
+    /// already, computed together.
     #[inline(always)]
-    pub(crate) fn visit_batch<'b, 'id, F>(
-        &self,
-        xi: Vector<D>,
-        rho_i: f64,
-        batch: CheckedList<'b, 'id>,
-        b: &mut PairFactorBatch,
-        visit: &mut F,
-    ) where
-        F: FnMut(usize, Slot<'b, 'id>, Vector<D>, f64, (f64, f64, f64)),
-    {
-        for (k, &j) in batch.indices().iter().enumerate() {
+    pub(crate) fn batch_factors(&self, rho_i: f64, indices: &[u32], b: &mut PairBatch<D>) {
+        for (k, &j) in indices.iter().enumerate() {
             b.rho_pair[k] = rho_i + self.rho[j as usize];
         }
-        self.pair_factors_batch(batch.indices().len(), b);
-        for (k, (j, slot)) in batch.iter().enumerate() {
-            visit(j, slot, xi - self.pos[j], b.r[k], b.get(k));
+        self.pair_factors_batch(indices.len(), b);
+    }
+
+    /// What a fluid pair term reads of fluid particle j besides its position.
+    #[inline(always)]
+    pub(crate) fn neighbour(&self, j: usize) -> FluidNeighbour<D> {
+        FluidNeighbour {
+            v: self.vel[j],
+            inv_rho: self.inv_rho[j],
+            p: self.p[j],
+            rho: self.rho[j],
+        }
+    }
+
+    /// The neighbours `indices` (at most [`BATCH`]) of a particle at `xi` into `b`: x_ij,
+    /// [`Self::neighbour`] and the density `rho_dyn(j)` a diffusion term differences.
+    #[inline(always)]
+    pub(crate) fn gather_batch(
+        &self,
+        xi: Vector<D>,
+        indices: &[u32],
+        rho_dyn: impl Fn(usize) -> f64,
+        b: &mut NeighbourBatch<D>,
+    ) {
+        for (k, &j) in indices.iter().enumerate() {
+            let j = j as usize;
+            let xij = xi - self.pos[j];
+            let v = self.vel[j];
+            for d in 0..D {
+                b.xij[d][k] = xij[d];
+                b.v[d][k] = v[d];
+            }
+            b.inv_rho[k] = self.inv_rho[j];
+            b.p[k] = self.p[j];
+            b.rho[k] = self.rho[j];
+            b.rho_dyn[k] = rho_dyn(j);
         }
     }
 

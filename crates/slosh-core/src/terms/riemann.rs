@@ -30,7 +30,7 @@
 //! artificial viscosity Π_ij is replaced by the limiter.
 
 use super::coupled::{MomentumContinuityPair, WallPairFlux};
-use super::momentum::{ForceOwner, ForceSweep};
+use super::momentum::{FluidNeighbour, ForceOwner, ForceSweep};
 use crate::sim::*;
 
 /// η of the low-dissipation limiter β = min(η max(U_L − U_R, 0), c̄) (Zhang, Hu & Adams 2017).
@@ -98,6 +98,7 @@ impl<const D: usize> MomentumContinuityPair<D> for RiemannPair {
         base: &ForceSweep<'_, D>,
         o: &ForceOwner<D>,
         j: usize,
+        nb: &FluidNeighbour<D>,
         xij: Vector<D>,
         r: f64,
         grad_w: Vector<D>,
@@ -105,9 +106,9 @@ impl<const D: usize> MomentumContinuityPair<D> for RiemannPair {
         continuity: bool,
     ) -> (Vector<D>, f64, f64) {
         let m = base.c.mass;
-        let vij = o.v - base.vel[j];
-        let p_j = base.p[j];
-        let inv_rho_j = base.inv_rho[j];
+        let vij = o.v - nb.v;
+        let p_j = nb.p;
+        let inv_rho_j = nb.inv_rho;
         let inv_rho_ij = o.inv_rho * inv_rho_j;
         let (two_p_star, dissipative) =
             self.interface(vij.dot(&xij), r, o.p - p_j, o.p + p_j, inv_rho_mean, f);
@@ -122,7 +123,7 @@ impl<const D: usize> MomentumContinuityPair<D> for RiemannPair {
         }
         // 2 (v_i − v*)·∇W = v_ij·∇W + dissipative; 2 (v* − v_j)·∇W = v_ij·∇W − dissipative.
         let flux = vij.dot(&grad_w);
-        let rho_j = base.rho[j];
+        let rho_j = nb.rho;
         (
             acc,
             o.rho * m * inv_rho_j * (flux + dissipative),

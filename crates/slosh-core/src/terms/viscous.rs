@@ -54,7 +54,8 @@ impl<const D: usize> MomentumContinuityPair<D> for Eq8MonaghanClearyPair {
         &self,
         base: &ForceSweep<'_, D>,
         o: &ForceOwner<D>,
-        j: usize,
+        _j: usize,
+        nb: &FluidNeighbour<D>,
         xij: Vector<D>,
         _r: f64,
         grad_w: Vector<D>,
@@ -62,13 +63,13 @@ impl<const D: usize> MomentumContinuityPair<D> for Eq8MonaghanClearyPair {
         continuity: bool,
     ) -> (Vector<D>, f64, f64) {
         let m = base.c.mass;
-        let vij = o.v - base.vel[j];
-        let inv_rho_ij = o.inv_rho * base.inv_rho[j];
-        // Eq. 8 without its viscous part: pressure and artificial viscosity (Eq. 10).
-        let mut scalar = -(o.p + base.p[j]) * inv_rho_ij * m;
-        if base.av_on {
-            scalar -= m * base.artificial_viscosity(vij, xij, inv_s, inv_rho_mean);
-        }
+        let vij = o.v - nb.v;
+        let inv_rho_ij = o.inv_rho * nb.inv_rho;
+        // Eq. 8 without its viscous part: pressure and artificial viscosity (Eq. 10). The
+        // latter without a branch (zero when α = β = 0), so that a batch of pairs is one
+        // straight loop the compiler vectorises.
+        let mut scalar = -(o.p + nb.p) * inv_rho_ij * m;
+        scalar -= m * base.artificial_viscosity(vij, xij, inv_s, inv_rho_mean);
         scalar += monaghan_cleary_factor(self.k_mu_m, vij, xij, inv_rho_ij, inv_s);
         let acc = xij * (f * scalar);
         if continuity {
