@@ -181,6 +181,11 @@ pub(crate) struct StageConstants {
     pub(crate) shifting: Option<f64>,
     /// 1/γ of the inverse EOS.
     pub(crate) inv_gamma: f64,
+    /// 1/(γ − 1), the exponent of the hydrostatic density ([`hydrostatic_density`]).
+    pub(crate) inv_gamma_minus_one: f64,
+    /// 1e-6^((γ−1)/γ): the floor of the hydrostatic density's base, where 1 + p/B reaches
+    /// the inverse EOS's floor of 1e-6.
+    pub(crate) hydrostatic_base_floor: f64,
 }
 
 /// Per-run buffers of the stages beyond the paper's, allocated once in `Simulation::new`.
@@ -212,6 +217,8 @@ impl<const D: usize> StageBuffers<D> {
             diffusion_coeff: delta * h * c0,
             shifting: params.shifting.filter(|a| *a > 0.0),
             inv_gamma: 1.0 / params.eos_gamma,
+            inv_gamma_minus_one: 1.0 / (params.eos_gamma - 1.0),
+            hydrostatic_base_floor: 1e-6f64.powf((params.eos_gamma - 1.0) / params.eos_gamma),
         };
         let shift_len = if k.shifting.is_some() { n } else { 0 };
         let symplectic = params.integrator == Integrator::Symplectic;
@@ -241,16 +248,24 @@ impl PassConstants {
 
 /// Hydrostatic Tait density at depth d (m) below the still level z_s of the compressed
 /// liquid: ρ0 (1 + p/B)^(1/γ) with p the exact hydrostatic pressure there
-/// ([`TaitColumn::hydrostatic_pressure`], the weight of the liquid above).
+/// ([`TaitColumn::hydrostatic_pressure`], the weight of the liquid above),
+/// p = B (β^(γ/(γ−1)) − 1) with β = 1 + ρ0 g d (γ−1)/(γ B), so ρ0 β^(1/(γ−1)): one power where
+/// the pressure and the inverse EOS take two (a particle's every step, for Fourtakas'
+/// diffusion). β is floored where 1 + p/B reaches the inverse EOS's floor
+/// ([`PassConstants::density_of`]).
 #[inline(always)]
-pub(crate) fn hydrostatic_density(c: &PassConstants, g: f64, inv_gamma: f64, depth: f64) -> f64 {
-    let column = TaitColumn {
-        eos_stiffness: c.eos_stiffness,
-        eos_gamma: c.eos_gamma,
-        rest_density: c.rest_density,
-        gravity: g,
-    };
-    c.density_of(column.hydrostatic_pressure(depth), inv_gamma)
+pub(crate) fn hydrostatic_density(
+    c: &PassConstants,
+    k: &StageConstants,
+    g: f64,
+    depth: f64,
+) -> f64 {
+    let gamma = c.eos_gamma;
+    let base = 1.0 + c.rest_density * g * depth * (gamma - 1.0) / (gamma * c.eos_stiffness);
+    c.rest_density
+        * base
+            .max(k.hydrostatic_base_floor)
+            .powf(k.inv_gamma_minus_one)
 }
 
 /// Moves liquid particles laid on the undistorted lattice (fill level `fill`, m, floor at

@@ -202,11 +202,7 @@ impl<const D: usize> Simulation<D> {
     pub(crate) fn initial_state(&mut self) {
         let c = self.constants;
         if matches!(self.plan.density, DensityStage::Continuity { .. }) {
-            let (g, level, inv_gamma) = (
-                self.params.gravity,
-                self.still_level_cached,
-                self.buffers.k.inv_gamma,
-            );
+            let (g, level, k) = (self.params.gravity, self.still_level_cached, self.buffers.k);
             for ((rho, inv), (x, p)) in self
                 .fluid
                 .density
@@ -219,7 +215,7 @@ impl<const D: usize> Simulation<D> {
                         .zip(self.fluid.pressure.iter_mut()),
                 )
             {
-                *rho = hydrostatic_density(&c, g, inv_gamma, (level - x[D - 1]).max(0.0));
+                *rho = hydrostatic_density(&c, &k, g, (level - x[D - 1]).max(0.0));
                 *inv = 1.0 / *rho;
                 *p = c.pressure(*rho);
             }
@@ -263,14 +259,14 @@ impl<const D: usize> Simulation<D> {
                 }
                 if hydrostatic {
                     let (g, level) = (self.params.gravity, self.still_level_cached);
-                    let inv_gamma = self.buffers.k.inv_gamma;
+                    let k = self.buffers.k;
                     self.buffers
                         .hydro_density
                         .par_iter_mut()
                         .zip(self.fluid.position.par_iter())
                         .with_min_len(PAR_CHUNK)
                         .for_each(|(rho_h, x)| {
-                            *rho_h = hydrostatic_density(&c, g, inv_gamma, level - body.height(x));
+                            *rho_h = hydrostatic_density(&c, &k, g, level - body.height(x));
                         });
                 }
             }
