@@ -194,34 +194,22 @@ fn level_rows(
     rep_window: (f64, f64),
 ) {
     let name = format!("{scheme} preset, dx = {dx} m");
-    let sets = vec![format!("scheme={scheme}"), format!("dx={dx}")];
-    let measured = run_script(
+    let measured = sensor_run(
         ctx,
-        "spheric10_roof_impact.rhai",
-        &format!("spheric10_{scheme}_{dx}"),
-        &sets,
-    )
-    .and_then(|run| {
-        result.particle_steps += particle_steps(&run.summary);
-        let [t, p] = run.columns(["t", "p_s3"])?;
-        let first = first_sensor_impact(&t, &p, WETTED_PA, rep_window)?;
-        Ok((first, run.summary.max_mach))
-    });
+        result,
+        (
+            "spheric10_roof_impact.rhai",
+            &format!("spheric10_{scheme}_{dx}"),
+        ),
+        (scheme, dx),
+        "p_s3",
+        WETTED_PA,
+        rep_window,
+    );
     let judged = scheme == "modern";
     match measured {
         Ok(((peak, t_peak, impulse), mach)) => {
-            let (lo, hi) = (mean - 2.0 * sd, mean + 2.0 * sd);
-            let inside = peak >= lo && peak <= hi;
-            let peak_row = condition(
-                GROUP,
-                &format!("{name}: first impact's peak at sensor 3"),
-                format!("{peak:.0} Pa"),
-                format!("{mean:.0} ± 2 × {sd:.0} Pa ({repeats} repeats)"),
-                inside,
-                &format!("[{lo:.0}, {hi:.0}] Pa"),
-                "repeated sloshing impacts scatter (here by 19 % of the mean): a computed \
-                 peak is one draw, judged against the repeats' mean ± 2 standard deviations",
-            );
+            let peak_row = peak_row(GROUP, &name, 3, peak, (mean, sd, repeats));
             let lead = t_peak - rep_time;
             let time_row = condition(
                 GROUP,
@@ -261,14 +249,7 @@ fn level_rows(
                  give the repeats' peaks, not their impulses, so one run's impulse is the only \
                  measured one",
             ));
-            result.checks.push(info_row(
-                GROUP,
-                &format!("{name}: largest Mach number"),
-                format!("{mach:.3}"),
-                "0.1".into(),
-                "—".into(),
-                "the weakly compressible liquid's own limit",
-            ));
+            result.checks.push(mach_row(GROUP, &name, mach));
         }
         Err(e) => result
             .checks
@@ -322,33 +303,22 @@ fn lateral_level_rows(
     (mean, sd, repeats): (f64, f64, usize),
 ) {
     let name = format!("{scheme} preset, dx = {dx} m");
-    let sets = vec![format!("scheme={scheme}"), format!("dx={dx}")];
-    let measured = run_script(
+    // The impulse over the experiment's impact duration (≈ 20 ms) around the peak.
+    let measured = sensor_run(
         ctx,
-        "spheric10_lateral_impact.rhai",
-        &format!("spheric10_lateral_{scheme}_{dx}"),
-        &sets,
-    )
-    .and_then(|run| {
-        result.particle_steps += particle_steps(&run.summary);
-        let [t, p] = run.columns(["t", "p_s1"])?;
-        // The impulse over the experiment's impact duration (≈ 20 ms) around the peak.
-        let first = first_sensor_impact(&t, &p, LATERAL_ONSET_PA, (0.01, 0.01))?;
-        Ok((first, run.summary.max_mach))
-    });
+        result,
+        (
+            "spheric10_lateral_impact.rhai",
+            &format!("spheric10_lateral_{scheme}_{dx}"),
+        ),
+        (scheme, dx),
+        "p_s1",
+        LATERAL_ONSET_PA,
+        (0.01, 0.01),
+    );
     match measured {
         Ok(((peak, t_peak, impulse), mach)) => {
-            let (lo, hi) = (mean - 2.0 * sd, mean + 2.0 * sd);
-            let mut peak_row = condition(
-                LATERAL_GROUP,
-                &format!("{name}: first impact's peak at sensor 1"),
-                format!("{peak:.0} Pa"),
-                format!("{mean:.0} ± 2 × {sd:.0} Pa ({repeats} repeats)"),
-                peak >= lo && peak <= hi,
-                &format!("[{lo:.0}, {hi:.0}] Pa"),
-                "repeated sloshing impacts scatter (here by 20 % of the mean): a computed \
-                 peak is one draw, judged against the repeats' mean ± 2 standard deviations",
-            );
+            let mut peak_row = peak_row(LATERAL_GROUP, &name, 1, peak, (mean, sd, repeats));
             if scheme == "modern" {
                 peak_row = open_if_failed(
                     peak_row,
@@ -373,17 +343,69 @@ fn lateral_level_rows(
                 "the data found give the repeats' peaks, not their times or traces: reported \
                  for the resolution study",
             ));
-            result.checks.push(info_row(
-                LATERAL_GROUP,
-                &format!("{name}: largest Mach number"),
-                format!("{mach:.3}"),
-                "0.1".into(),
-                "—".into(),
-                "the weakly compressible liquid's own limit",
-            ));
+            result.checks.push(mach_row(LATERAL_GROUP, &name, mach));
         }
         Err(e) => result
             .checks
             .push(failed_run(LATERAL_GROUP, &name, &format!("{e:#}"))),
     }
+}
+
+/// A run of `script` (its run folder named `label`) with the preset `scheme` at the lattice
+/// `dx` (m): the first impact in its sensor column `column` ([`first_sensor_impact`], with
+/// `onset` in Pa and the impulse's `window` in s before and after the peak) and the run's
+/// largest Mach number; the run's particle-steps counted in `result`.
+fn sensor_run(
+    ctx: &Context,
+    result: &mut GroupResult,
+    (script, label): (&str, &str),
+    (scheme, dx): (&str, f64),
+    column: &str,
+    onset: f64,
+    window: (f64, f64),
+) -> Result<((f64, f64, f64), f64)> {
+    let sets = vec![format!("scheme={scheme}"), format!("dx={dx}")];
+    let run = run_script(ctx, script, label, &sets)?;
+    result.particle_steps += particle_steps(&run.summary);
+    let [t, p] = run.columns(["t", column])?;
+    let first = first_sensor_impact(&t, &p, onset, window)?;
+    Ok((first, run.summary.max_mach))
+}
+
+/// The row that judges a first impact's peak at sensor `sensor` (Pa) against the repeats'
+/// first peaks (mean and standard deviation in Pa, count): within the mean ± 2 standard
+/// deviations, as one draw of a scattering process.
+fn peak_row(
+    group: &str,
+    name: &str,
+    sensor: u32,
+    peak: f64,
+    (mean, sd, repeats): (f64, f64, usize),
+) -> super::Check {
+    let (lo, hi) = (mean - 2.0 * sd, mean + 2.0 * sd);
+    condition(
+        group,
+        &format!("{name}: first impact's peak at sensor {sensor}"),
+        format!("{peak:.0} Pa"),
+        format!("{mean:.0} ± 2 × {sd:.0} Pa ({repeats} repeats)"),
+        peak >= lo && peak <= hi,
+        &format!("[{lo:.0}, {hi:.0}] Pa"),
+        &format!(
+            "repeated sloshing impacts scatter (here by {:.0} % of the mean): a computed peak \
+             is one draw, judged against the repeats' mean ± 2 standard deviations",
+            100.0 * sd / mean
+        ),
+    )
+}
+
+/// The run's largest Mach number, reported beside the weakly compressible liquid's limit.
+fn mach_row(group: &str, name: &str, mach: f64) -> super::Check {
+    info_row(
+        group,
+        &format!("{name}: largest Mach number"),
+        format!("{mach:.3}"),
+        "0.1".into(),
+        "—".into(),
+        "the weakly compressible liquid's own limit",
+    )
 }
