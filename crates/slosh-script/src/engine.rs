@@ -424,19 +424,21 @@ fn add_sensor(
     height: Option<f64>,
     diameter: f64,
 ) -> Result<(), Box<EvalAltResult>> {
-    let kind = if height.is_some() {
-        "wall_sensor"
-    } else {
-        "roof_sensor"
+    let sensor = PressureSensorSpec {
+        name: name.to_string(),
+        horizontal,
+        diameter,
+        height,
     };
+    let (kind, horizontal, height) = (sensor.kind(), &sensor.horizontal, &sensor.height);
     if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
         return Err(runtime_error(format!(
             "{kind} name \"{name}\" must be letters, digits or _ (it becomes the column \
              p_{name})"
         )));
     }
-    if horizontal.iter().chain(&height).any(|x| !x.is_finite()) {
-        let position: Vec<f64> = horizontal.iter().chain(&height).copied().collect();
+    if horizontal.iter().chain(height).any(|x| !x.is_finite()) {
+        let position: Vec<f64> = horizontal.iter().chain(height).copied().collect();
         return Err(runtime_error(format!(
             "{kind} \"{name}\": its position must be finite numbers (got {position:?})"
         )));
@@ -452,12 +454,7 @@ fn add_sensor(
             "{kind} \"{name}\": a sensor of that name is already declared"
         )));
     }
-    d.pressure_sensors.push(PressureSensorSpec {
-        name: name.to_string(),
-        horizontal,
-        diameter,
-        height,
-    });
+    d.pressure_sensors.push(sensor);
     Ok(())
 }
 
