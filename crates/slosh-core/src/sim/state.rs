@@ -183,9 +183,8 @@ pub(crate) struct StageConstants {
     pub(crate) inv_gamma: f64,
     /// 1/(γ − 1), the exponent of the hydrostatic density ([`hydrostatic_density`]).
     pub(crate) inv_gamma_minus_one: f64,
-    /// 1e-6^((γ−1)/γ): the floor of the hydrostatic density's base, where 1 + p/B reaches
-    /// the inverse EOS's floor of 1e-6.
-    pub(crate) hydrostatic_base_floor: f64,
+    /// 1e-6^(1/γ): the floor of ρ/ρ0 that the inverse EOS's floor of 1e-6 on 1 + p/B gives.
+    pub(crate) density_ratio_floor: f64,
 }
 
 /// Per-run buffers of the stages beyond the paper's, allocated once in `Simulation::new`.
@@ -218,7 +217,7 @@ impl<const D: usize> StageBuffers<D> {
             shifting: params.shifting.filter(|a| *a > 0.0),
             inv_gamma: 1.0 / params.eos_gamma,
             inv_gamma_minus_one: 1.0 / (params.eos_gamma - 1.0),
-            hydrostatic_base_floor: 1e-6f64.powf((params.eos_gamma - 1.0) / params.eos_gamma),
+            density_ratio_floor: 1e-6f64.powf(1.0 / params.eos_gamma),
         };
         let shift_len = if k.shifting.is_some() { n } else { 0 };
         let symplectic = params.integrator == Integrator::Symplectic;
@@ -249,10 +248,11 @@ impl PassConstants {
 /// Hydrostatic Tait density at depth d (m) below the still level z_s of the compressed
 /// liquid: ρ0 (1 + p/B)^(1/γ) with p the exact hydrostatic pressure there
 /// ([`TaitColumn::hydrostatic_pressure`], the weight of the liquid above),
-/// p = B (β^(γ/(γ−1)) − 1) with β = 1 + ρ0 g d (γ−1)/(γ B), so ρ0 β^(1/(γ−1)): one power where
-/// the pressure and the inverse EOS take two (a particle's every step, for Fourtakas'
-/// diffusion). β is floored where 1 + p/B reaches the inverse EOS's floor
-/// ([`PassConstants::density_of`]).
+/// p = B (β^(γ/(γ−1)) − 1) with β = 1 + ρ0 g d (γ−1)/(γ B) (floored at 0), so ρ0 β^(1/(γ−1)):
+/// one power where the pressure and the inverse EOS take two (a particle's every step, for
+/// Fourtakas' diffusion). ρ/ρ0 = (1 + p/B)^(1/γ) grows with 1 + p/B for every γ > 0, so the
+/// inverse EOS's floor of 1e-6 on 1 + p/B ([`PassConstants::density_of`]) is the floor
+/// 1e-6^(1/γ) on ρ/ρ0.
 #[inline(always)]
 pub(crate) fn hydrostatic_density(
     c: &PassConstants,
@@ -264,8 +264,9 @@ pub(crate) fn hydrostatic_density(
     let base = 1.0 + c.rest_density * g * depth * (gamma - 1.0) / (gamma * c.eos_stiffness);
     c.rest_density
         * base
-            .max(k.hydrostatic_base_floor)
+            .max(0.0)
             .powf(k.inv_gamma_minus_one)
+            .max(k.density_ratio_floor)
 }
 
 /// Moves liquid particles laid on the undistorted lattice (fill level `fill`, m, floor at
@@ -290,5 +291,61 @@ pub(crate) fn settle_into_compression<const D: usize>(
     for x in positions {
         let depth = fill - x[D - 1];
         x[D - 1] = still - if depth > 0.0 { sunk(depth) } else { depth };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernel::KernelKind;
+
+    /// The one-power hydrostatic density against its definition, the inverse EOS (Eq. 18) of
+    /// the column's exact pressure (two powers), for stiff and soft Tait liquids (γ = 7, 1.5,
+    /// and 0.5 where 1/(γ − 1) is negative) from 30 m below the surface to far above it, where
+    /// the inverse EOS's floor holds: within 1e-10 relative, the round-off of the two-power
+    /// form, whose 1 + p/B = 1 + (β^(γ/(γ−1)) − 1) cancels where β^(γ/(γ−1)) is small (2e-5
+    /// at γ = 0.5, 1 km above the surface: 5e-12 relative, doubled by the power 1/γ = 2).
+    #[test]
+    fn hydrostatic_density_is_the_inverse_eos_of_the_hydrostatic_pressure() {
+        for gamma in [7.0, 1.5, 0.5] {
+            let params = SphParams {
+                eos_gamma: gamma,
+                eos_stiffness: 2.0e5,
+                ..SphParams::modern()
+            };
+            let c = PassConstants {
+                kernel: Kernel::new(KernelKind::WendlandC2, 0.02, 2),
+                support_sq: 0.0016,
+                mass: 0.1,
+                rest_density: 1000.0,
+                eos_stiffness: params.eos_stiffness,
+                eos_gamma: gamma,
+                eos_gamma_int: None,
+                clamp_negative: false,
+                wall_separation: true,
+                free_surface_threshold: 0.75,
+                viscosity: 0.0,
+                av_alpha: 0.0,
+                av_beta: 3.0,
+                av_sound_speed: 10.0,
+                eos_sound_speed: 10.0,
+            };
+            let k = StageBuffers::<2>::new(&params, 0.02, 10.0, 0, 0).k;
+            let column = TaitColumn {
+                eos_stiffness: c.eos_stiffness,
+                eos_gamma: gamma,
+                rest_density: c.rest_density,
+                gravity: 9.81,
+            };
+            for depth in [30.0, 5.0, 0.3, 0.0, -0.3, -5.0, -1e3, -1e6] {
+                let one = hydrostatic_density(&c, &k, 9.81, depth);
+                let two = c.density_of(column.hydrostatic_pressure(depth), k.inv_gamma);
+                // Both infinite where β ≤ 0 under a soft liquid (γ < 1).
+                assert!(
+                    one == two || (one / two - 1.0).abs() < 1e-10,
+                    "γ = {gamma}, depth {depth} m: {one} against {two}"
+                );
+            }
+        }
     }
 }

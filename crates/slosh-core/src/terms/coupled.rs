@@ -706,6 +706,7 @@ impl<
         // order: each pair's arithmetic and the order of every sum those of `fluid_pair`.
         let t = &self.terms;
         let indices = batch.indices();
+        debug_assert!(indices.len() <= BATCH, "a batch holds at most BATCH pairs");
         t.base
             .gather_batch(xi, indices, |j| t.rho_dyn(j), &mut b.neighbours);
         // The factors' ρ_i + ρ_j from the gathered densities.
