@@ -101,10 +101,16 @@ impl TaitColumn {
     /// the liquid above: p = B [(1 + ρ0 g z (γ−1)/(γ B))^(γ/(γ−1)) − 1]
     /// (≈ ρ0 g z (1 + ρ0 g z/(2γB))).
     pub fn hydrostatic_pressure(&self, depth: f64) -> f64 {
+        let (b, gamma, ..) = self.constants();
+        b * (self.pressure_base(depth).powf(gamma / (gamma - 1.0)) - 1.0)
+    }
+
+    /// The base β = 1 + ρ0 g z (γ−1)/(γ B) of [`Self::hydrostatic_pressure`] at `depth` m,
+    /// p = B (β^(γ/(γ−1)) − 1); floored at zero: far above the surface the pressure tends to
+    /// −B, never to NaN.
+    pub(crate) fn pressure_base(&self, depth: f64) -> f64 {
         let (b, gamma, rho0, g) = self.constants();
-        // Floored at zero: far above the surface the pressure tends to −B, never to NaN.
-        let base = (1.0 + rho0 * g * depth * (gamma - 1.0) / (gamma * b)).max(0.0);
-        b * (base.powf(gamma / (gamma - 1.0)) - 1.0)
+        (1.0 + rho0 * g * depth * (gamma - 1.0) / (gamma * b)).max(0.0)
     }
 
     fn constants(&self) -> (f64, f64, f64, f64) {

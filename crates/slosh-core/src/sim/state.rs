@@ -260,11 +260,15 @@ pub(crate) fn hydrostatic_density(
     g: f64,
     depth: f64,
 ) -> f64 {
-    let gamma = c.eos_gamma;
-    let base = 1.0 + c.rest_density * g * depth * (gamma - 1.0) / (gamma * c.eos_stiffness);
+    let column = TaitColumn {
+        eos_stiffness: c.eos_stiffness,
+        eos_gamma: c.eos_gamma,
+        rest_density: c.rest_density,
+        gravity: g,
+    };
     c.rest_density
-        * base
-            .max(0.0)
+        * column
+            .pressure_base(depth)
             .powf(k.inv_gamma_minus_one)
             .max(k.density_ratio_floor)
 }

@@ -707,17 +707,9 @@ impl<
         let t = &self.terms;
         let indices = batch.indices();
         debug_assert!(indices.len() <= BATCH, "a batch holds at most BATCH pairs");
+        t.base.batch_factors(rho_i, indices, b);
         t.base
             .gather_batch(xi, indices, |j| t.rho_dyn(j), &mut b.neighbours);
-        // The factors' ρ_i + ρ_j from the gathered densities.
-        for (rho_pair, rho_j) in b
-            .rho_pair
-            .iter_mut()
-            .zip(&b.neighbours.rho[..indices.len()])
-        {
-            *rho_pair = rho_i + rho_j;
-        }
-        t.base.pair_factors_batch(indices.len(), b);
         t.fluid_pairs(o, indices, b);
         for (k, (_, slot)) in batch.iter().enumerate() {
             self.add_pair(o, sums, &t.batch_pair(b, k), Some(slot));

@@ -262,14 +262,14 @@ impl<'a, const D: usize> ForceSweep<'a, D> {
         for (k, &j) in indices.iter().enumerate() {
             let j = j as usize;
             let xij = xi - self.pos[j];
-            let v = self.vel[j];
+            let nb = self.neighbour(j);
             for d in 0..D {
                 b.xij[d][k] = xij[d];
-                b.v[d][k] = v[d];
+                b.v[d][k] = nb.v[d];
             }
-            b.inv_rho[k] = self.inv_rho[j];
-            b.p[k] = self.p[j];
-            b.rho[k] = self.rho[j];
+            b.inv_rho[k] = nb.inv_rho;
+            b.p[k] = nb.p;
+            b.rho[k] = nb.rho;
             b.rho_dyn[k] = rho_dyn(j);
         }
     }
